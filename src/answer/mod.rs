@@ -1,0 +1,1 @@
+//! Placeholder for the `answer` module; filled in by issue 2 work in progress.

@@ -1,0 +1,1 @@
+//! Placeholder for the `score` module; filled in by issue 2 work in progress.
