@@ -1,0 +1,47 @@
+//! Scene API errors. `Misuse` and `Unavailable` become a Python `SceneApiError` that the program
+//! may catch; `Data` means the video's files are broken and fails the unit at stage `scene_api`.
+
+use crate::dataset::DatasetError;
+
+/// Why a scene API call failed.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum ApiError {
+    /// The program called the API wrongly; the message says what is allowed.
+    #[error("{0}")]
+    Misuse(String),
+    /// The call is well formed but this video cannot answer it (no such counterfactual run...).
+    #[error("{0}")]
+    Unavailable(String),
+    /// The video's files could not be read or are malformed (the message carries the cause
+    /// chain, so the error can be memoised and replayed to every later call).
+    #[error("cannot load the scene: {0}")]
+    Data(String),
+}
+
+impl From<DatasetError> for ApiError {
+    fn from(error: DatasetError) -> Self {
+        let mut message = error.to_string();
+        let mut source = std::error::Error::source(&error);
+        while let Some(cause) = source {
+            message.push_str(": ");
+            message.push_str(&cause.to_string());
+            source = cause.source();
+        }
+        ApiError::Data(message)
+    }
+}
+
+impl ApiError {
+    /// A short stable name for reports: `misuse`, `unavailable` or `data`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ApiError::Misuse(_) => "misuse",
+            ApiError::Unavailable(_) => "unavailable",
+            ApiError::Data(_) => "data",
+        }
+    }
+}
+
+pub(crate) fn misuse(message: impl Into<String>) -> ApiError {
+    ApiError::Misuse(message.into())
+}

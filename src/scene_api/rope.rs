@@ -1,0 +1,479 @@
+//! The rope scene with oracle backends: objects from the annotation names, masses from
+//! `outputMass`, and motion/rotation from the factual results (`simulate`) or the mass
+//! counterfactual runs (`increase`/`decrease` of a load's mass), as the paper's offline mode does.
+//!
+//! Units: mass in kg (nominal, see [`nominal_mass_kg`]); tension in N (the weight of the load the
+//! rope carries, `m·g` with g = 9.81 m/s²), which is what the benchmark's tension questions compare.
+
+use std::path::Path;
+
+use indexmap::IndexMap;
+
+use super::error::{ApiError, misuse};
+use super::object::{ObjectId, SceneObjectInfo};
+use super::scene::{EventAction, Property, SceneEvent, ScenarioBackend, Target};
+use crate::dataset::{RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name};
+
+/// Standard gravity, m/s².
+const GRAVITY_M_PER_S2: f64 = 9.81;
+
+/// The benchmark's mass of a load: `outputMass` rounded up to 0.01 kg (`ceil(m·100)/100`, as the
+/// public engine does). Loads under a movable pulley carry the generator's ×1.975 factor, which
+/// this rounds to the doubled nominal mass (0.395 → 0.4), so "twice" comparisons are exact.
+pub(crate) fn nominal_mass_kg(mass_kg: f64) -> f64 {
+    (mass_kg * 100.0).ceil() / 100.0
+}
+
+pub(crate) struct RopeBackend {
+    annotation: RopeAnnotation,
+    objects: Vec<SceneObjectInfo>,
+    /// Related group (index into `relatedGroupsInRope`) per object.
+    group: Vec<Option<usize>>,
+    /// Nominal mass per object (loads only), kg.
+    mass_kg: Vec<Option<f64>>,
+    /// Tension per object (ropes only), N; `None` when the rope carries no load or loads of
+    /// different masses (the video cannot tell one value).
+    tension_n: Vec<Option<f64>>,
+}
+
+impl RopeBackend {
+    pub(crate) fn load(path: &Path) -> Result<RopeBackend, ApiError> {
+        Ok(RopeBackend::new(RopeAnnotation::load(path)?))
+    }
+
+    pub(crate) fn new(annotation: RopeAnnotation) -> RopeBackend {
+        // Object order: loads (outputMass order), then ropes, then pulleys and fixed points in
+        // group order — the public engine's object order.
+        let mut names: Vec<String> = annotation.output_mass_kg.keys().cloned().collect();
+        for group in &annotation.related_groups_in_rope {
+            for rope in group.keys() {
+                push_unique(&mut names, rope);
+            }
+        }
+        for group in &annotation.related_groups_in_rope {
+            for elements in group.values() {
+                for element in elements {
+                    if let Some(parsed) = parse_rope_object_name(element) {
+                        if matches!(parsed.kind, RopeObjectKind::Pulley | RopeObjectKind::FixedPoint) {
+                            push_unique(&mut names, element);
+                        }
+                    }
+                }
+            }
+        }
+        let objects: Vec<SceneObjectInfo> = names
+            .iter()
+            .filter_map(|name| parse_rope_object_name(name))
+            .enumerate()
+            .map(|(index, parsed)| SceneObjectInfo {
+                id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+                name: parsed.full.clone(),
+                color: parsed.color.clone(),
+                kind: parsed.kind.word().to_string(),
+                shape: parsed.pulley_shape.clone(),
+                dynamics: parsed.dynamics.clone(),
+                grid: parsed.grid,
+            })
+            .collect();
+        let group_of_name = |name: &str| -> Option<usize> {
+            annotation.related_groups_in_rope.iter().position(|group| {
+                group.keys().any(|rope| rope == name) || group.values().flatten().any(|e| e == name)
+            })
+        };
+        let group: Vec<Option<usize>> = objects.iter().map(|o| group_of_name(&o.name)).collect();
+        let mass_kg: Vec<Option<f64>> = objects
+            .iter()
+            .map(|o| annotation.output_mass_kg.get(&o.name).map(|m| nominal_mass_kg(*m)))
+            .collect();
+        let rope_loads = load_rope_map(&annotation);
+        let tension_n = objects
+            .iter()
+            .map(|o| {
+                if o.kind != "rope" {
+                    return None;
+                }
+                let masses: Vec<f64> = rope_loads
+                    .iter()
+                    .filter(|(_, rope)| rope.eq_ignore_ascii_case(&o.name))
+                    .filter_map(|(load, _)| annotation.output_mass_kg.get(load).map(|m| nominal_mass_kg(*m)))
+                    .collect();
+                let first = *masses.first()?;
+                masses.iter().all(|m| (m - first).abs() < 1e-9).then_some(first * GRAVITY_M_PER_S2)
+            })
+            .collect();
+        RopeBackend { annotation, objects, group, mass_kg, tension_n }
+    }
+
+    fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
+        self.objects
+            .get(id.0 as usize)
+            .ok_or_else(|| misuse(format!("{function}: object #{} does not belong to this scene", id.0)))
+    }
+
+    /// The results (motion, rotation) of the dynamic scene started by `event`.
+    fn results(&self, event: &SceneEvent) -> Result<(&IndexMap<String, i8>, &IndexMap<String, i8>), ApiError> {
+        match event.action {
+            EventAction::Simulate => Ok((&self.annotation.result_motion, &self.annotation.result_rotation)),
+            EventAction::Increase | EventAction::Decrease => {
+                let load = self.info(event.object.ok_or_else(|| misuse("an increase/decrease event needs an object"))?, "init_dyn_simulation")?;
+                let lighter = event.action == EventAction::Decrease;
+                let run: Option<&RopeCounterfactual> = self.annotation.mass_counterfactuals().find(|cf| {
+                    matches!(&cf.change, RopeChange::Mass { target, .. } if *target == load.name)
+                        && cf.change.is_lighter() == Some(lighter)
+                });
+                let run = run.ok_or_else(|| {
+                    ApiError::Unavailable(format!(
+                        "this video has no counterfactual run where the mass of the {} {}s",
+                        load.describe(),
+                        if lighter { "decrease" } else { "increase" }
+                    ))
+                })?;
+                Ok((&run.motion, &run.rotation))
+            }
+            EventAction::Emit | EventAction::Remove => Err(event_misuse()),
+        }
+    }
+}
+
+fn push_unique(names: &mut Vec<String>, name: &str) {
+    if !names.iter().any(|n| n == name) {
+        names.push(name.to_string());
+    }
+}
+
+fn event_misuse() -> ApiError {
+    misuse(
+        "register_event: rope scenes support register_event([load], 'increase' or 'decrease', 'mass') \
+         for a cube or sphere, and register_event([], 'simulate', '')",
+    )
+}
+
+/// Load → rope map of the public engine (`contphy/FORMAT.md` §8.1 step 5): an end load takes its
+/// neighbouring rope; a load under a movable pulley takes its connection rope; otherwise the
+/// neighbouring element whose name contains `ope`. Python's negative-index wrap-around and
+/// out-of-range lookups of the original are bounds-checked here.
+pub(crate) fn load_rope_map(annotation: &RopeAnnotation) -> Vec<(String, String)> {
+    let mut map: Vec<(String, String)> = Vec::new();
+    let is_load = |name: &str| name.contains("ube") || name.contains("phere");
+    let is_movable = |name: Option<&String>| name.is_some_and(|n| n.contains("ynamic"));
+    for group in &annotation.related_groups {
+        for (index, element) in group.iter().enumerate() {
+            if !is_load(element) {
+                continue;
+            }
+            let previous = index.checked_sub(1).and_then(|i| group.get(i));
+            let next = group.get(index + 1);
+            let rope = if index == 0 {
+                next.filter(|n| n.to_lowercase().contains("rope"))
+            } else if index + 1 == group.len() {
+                previous.filter(|p| p.to_lowercase().contains("rope"))
+            } else if is_movable(group.get(index + 2)) {
+                next
+            } else if is_movable(index.checked_sub(2).and_then(|i| group.get(i))) {
+                previous
+            } else if previous.is_some_and(|p| p.contains("ope")) {
+                previous
+            } else {
+                next.filter(|n| n.contains("ope"))
+            };
+            if let Some(rope) = rope {
+                map.retain(|(load, _)| load != element);
+                map.push((element.clone(), rope.clone()));
+            }
+        }
+    }
+    map
+}
+
+impl ScenarioBackend for RopeBackend {
+    fn objects(&self) -> &[SceneObjectInfo] {
+        &self.objects
+    }
+
+    fn query(&self, property: Property, objects: &[ObjectId], function: &str) -> Result<Vec<Option<f64>>, ApiError> {
+        let infos = objects.iter().map(|id| self.info(*id, function)).collect::<Result<Vec<_>, _>>()?;
+        let values: Vec<Option<f64>> = match property {
+            Property::Mass => infos
+                .iter()
+                .map(|o| {
+                    self.mass_kg[o.id.0 as usize].map(Some).ok_or_else(|| {
+                        misuse(format!("{function}: mass is known for cubes and spheres, not for the {}", o.describe()))
+                    })
+                })
+                .collect::<Result<_, _>>()?,
+            Property::Tension => infos
+                .iter()
+                .map(|o| {
+                    if o.kind == "rope" {
+                        Ok(self.tension_n[o.id.0 as usize])
+                    } else {
+                        Err(misuse(format!("{function}: tension is a property of ropes, not of the {}", o.describe())))
+                    }
+                })
+                .collect::<Result<_, _>>()?,
+            other => {
+                return Err(misuse(format!(
+                    "{function}: property `{}` does not apply to rope scenes; rope scenes have mass (cubes, spheres) and tension (ropes)",
+                    other.name()
+                )));
+            }
+        };
+        if let [first, second] = infos.as_slice() {
+            // Objects in different mechanically coupled groups cannot be compared from the video
+            // (the benchmark answers "can not answer").
+            let same_group = self.group[first.id.0 as usize].is_some()
+                && self.group[first.id.0 as usize] == self.group[second.id.0 as usize];
+            if !same_group || values.iter().any(Option::is_none) {
+                return Ok(vec![None, None]);
+            }
+        }
+        Ok(values)
+    }
+
+    fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
+        match event.action {
+            EventAction::Simulate => Ok(()),
+            EventAction::Increase | EventAction::Decrease => {
+                let object = event.object.ok_or_else(|| {
+                    misuse("register_event: increase/decrease needs the load as the first argument, e.g. register_event([cube], 'increase', 'mass')")
+                })?;
+                let info = self.info(object, "register_event")?;
+                if !(info.kind == "cube" || info.kind == "sphere") {
+                    return Err(misuse(format!(
+                        "register_event: only the mass of a cube or sphere can change in rope scenes, not the {}",
+                        info.describe()
+                    )));
+                }
+                if !(event.attribute.is_empty() || event.attribute == "mass") {
+                    return Err(misuse(format!(
+                        "register_event: rope scenes change `mass`, not `{}`",
+                        event.attribute
+                    )));
+                }
+                Ok(())
+            }
+            EventAction::Emit | EventAction::Remove => Err(event_misuse()),
+        }
+    }
+
+    fn happen(&self, event: &SceneEvent, object: ObjectId, action: &str, target: &Target) -> Result<bool, ApiError> {
+        let info = self.info(object, "happen")?;
+        let Target::Text(target) = target else {
+            return Err(misuse(format!(
+                "happen: in rope scenes the target of `{action}` is a word such as 'up', 'down', 'clockwise' or 'anti-clockwise', not objects"
+            )));
+        };
+        let target = target.trim().to_lowercase();
+        let (motion, rotation) = self.results(event)?;
+        let (results, wanted) = match action {
+            "motion" | "move" | "moving" => {
+                if info.kind == "rope" {
+                    return Err(misuse("happen: ropes have no motion result; ask about a load, pulley or fixed point"));
+                }
+                let wanted = match target.as_str() {
+                    "up" | "move up" | "upward" | "upwards" => 1,
+                    "down" | "move down" | "downward" | "downwards" => -1,
+                    "stationary" | "none" | "not move" | "still" => 0,
+                    _ => {
+                        return Err(misuse(format!(
+                            "happen: the target of 'motion' is 'up', 'down' or 'stationary', not `{target}`"
+                        )));
+                    }
+                };
+                (motion, wanted)
+            }
+            "rotation" | "rotate" | "rotating" => {
+                if info.kind != "pulley" {
+                    return Err(misuse(format!("happen: only pulleys rotate; the {} has no rotation result", info.describe())));
+                }
+                let wanted = match target.as_str() {
+                    "clockwise" | "rotate clockwise" => 1,
+                    "anti-clockwise" | "anticlockwise" | "counter-clockwise" | "counterclockwise" | "rotate anti-clockwise" => -1,
+                    "stationary" | "none" | "not rotate" => 0,
+                    _ => {
+                        return Err(misuse(format!(
+                            "happen: the target of 'rotation' is 'clockwise', 'anti-clockwise' or 'stationary', not `{target}`"
+                        )));
+                    }
+                };
+                (rotation, wanted)
+            }
+            "entering" | "passing" | "collision" | "falling" | "touching" | "droping" | "dropping" => {
+                return Err(misuse(format!(
+                    "happen: `{action}` belongs to other scenarios; rope scenes answer 'motion' (up, down) and 'rotation' (clockwise, anti-clockwise)"
+                )));
+            }
+            _ => {
+                return Err(misuse(format!(
+                    "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (rope: motion, rotation)"
+                )));
+            }
+        };
+        let sign = results.get(&info.name).ok_or_else(|| {
+            ApiError::Unavailable(format!("this video has no {action} result for the {}", info.describe()))
+        })?;
+        Ok(i32::from(*sign) == wanted)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Hand-derived expectations on the real rope video (eval/demo/pulley_group/0): masses
+    //! 0.2 / 0.25 / 0.15 kg; the two cubes share the purple rope's group, the pink sphere hangs in
+    //! the green rope's group; making the purple cube lighter lifts it and turns the blue and gray
+    //! pulleys clockwise and the pink pulley anti-clockwise (CounterFactualAnnotations 2.0).
+    use super::*;
+    use crate::dataset::{Scenario, VideoId};
+    use crate::scene_api::{DynamicsBackend, PerceptionBackend, Scene, VideoSpec};
+
+    fn scene() -> Scene {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
+        let video = crate::dataset::VideoFolder { scenario: Scenario::Rope, id: VideoId("0".into()), dir };
+        Scene::open(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation))
+    }
+
+    fn names(scene: &Scene, query: &str) -> Vec<String> {
+        scene.find(query).unwrap().into_iter().map(|id| scene.object(id).unwrap().describe()).collect()
+    }
+
+    fn one(scene: &Scene, query: &str) -> ObjectId {
+        let found = scene.find(query).unwrap();
+        assert_eq!(found.len(), 1, "{query}");
+        found[0]
+    }
+
+    #[test]
+    fn find_matches_colour_kind_shape_and_dynamics_words() {
+        let scene = scene();
+        assert_eq!(scene.work().annotation_loads, 0, "opening a scene must not read anything");
+        let cases: [(&str, &[&str]); 10] = [
+            ("purple", &["purple cube", "purple rope", "purple solid pulley"]),
+            ("pulley", &["blue solid pulley", "gray hollow pulley", "pink solid pulley", "purple solid pulley"]),
+            ("solid pulley", &["blue solid pulley", "pink solid pulley", "purple solid pulley"]),
+            ("blue pulley", &["blue solid pulley"]),
+            ("cubes", &["purple cube", "green cube"]),
+            ("fixed point", &["brown fixed point"]),
+            ("static pulley", &["blue solid pulley", "gray hollow pulley", "pink solid pulley", "purple solid pulley"]),
+            ("dynamic pulley", &[]),
+            ("red cube", &[]),
+            ("red container", &[]),
+        ];
+        for (query, expected) in cases {
+            assert_eq!(names(&scene, query), expected, "{query}");
+        }
+        assert_eq!(scene.find("").unwrap().len(), 10);
+        assert_eq!(names(&scene, "purple solid static pulley (1 0)"), ["purple solid pulley"]);
+        assert_eq!(scene.work().annotation_loads, 1, "the annotation is loaded once");
+        assert_eq!(scene.work().sim_runs, 0);
+    }
+
+    #[test]
+    fn mass_and_tension_queries_follow_related_groups() {
+        let scene = scene();
+        let purple = one(&scene, "purple cube");
+        let green = one(&scene, "green cube");
+        let pink = one(&scene, "pink sphere");
+        assert_eq!(scene.query_pair("mass", purple, green).unwrap(), (Some(0.2), Some(0.25)));
+        assert_eq!(scene.query_pair("mass", green, pink).unwrap(), (None, None));
+        assert_eq!(scene.query_single("mass", pink).unwrap(), Some(0.15));
+        let purple_rope = one(&scene, "purple rope");
+        let green_rope = one(&scene, "green rope");
+        // Both cubes (different masses) hang on the purple rope: no single tension value.
+        assert_eq!(scene.query_single("tension", purple_rope).unwrap(), None);
+        let pink_weight = scene.query_single("tension", green_rope).unwrap().unwrap();
+        assert!((pink_weight - 0.15 * 9.81).abs() < 1e-12);
+        assert_eq!(scene.query_pair("tension", purple_rope, green_rope).unwrap(), (None, None));
+        let pulley = one(&scene, "blue pulley");
+        let cases = [
+            (scene.query_single("mass", pulley).unwrap_err(), "mass is known for cubes and spheres, not for the blue solid pulley"),
+            (scene.query_single("tension", purple).unwrap_err(), "tension is a property of ropes"),
+            (scene.query_single("density", purple).unwrap_err(), "property `density` does not apply to rope scenes"),
+            (scene.query_single("weight", purple).unwrap_err(), "unknown property `weight`; properties are mass, tension"),
+        ];
+        for (error, expected) in cases {
+            assert_eq!(error.kind(), "misuse");
+            assert!(error.to_string().contains(expected), "`{error}` lacks `{expected}`");
+        }
+    }
+
+    #[test]
+    fn counterfactual_and_factual_outcomes_come_from_the_annotations() {
+        let scene = scene();
+        let purple = one(&scene, "purple cube");
+        let green = one(&scene, "green cube");
+        let pink = one(&scene, "pink sphere");
+        let blue_pulley = one(&scene, "blue pulley");
+        let pink_pulley = one(&scene, "pink pulley");
+        let purple_pulley = one(&scene, "purple pulley");
+        let lighter_purple = scene.register_event(&[purple], "decrease", "mass", vec![]).unwrap();
+        let heavier_purple = scene.register_event(&[purple], "increase", "mass", vec![]).unwrap();
+        let heavier_green = scene.register_event(&[green], "increase", "mass", vec![]).unwrap();
+        let lighter_pink = scene.register_event(&[pink], "decrease", "mass", vec![]).unwrap();
+        let factual = scene.register_event(&[], "simulate", "", vec![]).unwrap();
+        let up = Target::Text("up".into());
+        let down = Target::Text("down".into());
+        let clockwise = Target::Text("clockwise".into());
+        let anti = Target::Text("anti-clockwise".into());
+        let still = Target::Text("stationary".into());
+        let cases = [
+            (&lighter_purple, purple, "motion", &up, true),
+            (&lighter_purple, green, "motion", &down, true),
+            (&lighter_purple, blue_pulley, "rotation", &clockwise, true),
+            (&lighter_purple, pink_pulley, "rotation", &anti, true),
+            (&lighter_purple, purple_pulley, "rotation", &still, true),
+            (&heavier_purple, purple, "motion", &up, false),
+            (&heavier_purple, purple, "motion", &down, true),
+            (&heavier_purple, blue_pulley, "rotation", &anti, true),
+            (&heavier_green, green, "motion", &down, true),
+            (&heavier_green, pink_pulley, "rotation", &anti, true),
+            (&lighter_pink, pink, "motion", &still, true),
+            (&lighter_pink, pink, "motion", &up, false),
+            (&factual, purple, "motion", &up, true),
+            (&factual, green, "motion", &down, true),
+            (&factual, blue_pulley, "rotation", &clockwise, true),
+        ];
+        for (index, (event, object, action, target, expected)) in cases.into_iter().enumerate() {
+            assert_eq!(scene.happen(event, &[object], action, target).unwrap(), expected, "case {index}");
+        }
+        assert_eq!(scene.work().sim_runs, 0, "oracle dynamics read annotations, they do not simulate");
+    }
+
+    #[test]
+    fn misuse_explains_what_is_allowed() {
+        let scene = scene();
+        let purple = one(&scene, "purple cube");
+        let rope = one(&scene, "purple rope");
+        let pulley = one(&scene, "blue pulley");
+        let factual = scene.register_event(&[], "simulate", "", vec![]).unwrap();
+        let cases = [
+            (scene.register_event(&[pulley], "increase", "mass", vec![]).unwrap_err(), "only the mass of a cube or sphere can change"),
+            (scene.register_event(&[purple], "remove", "", vec![]).unwrap_err(), "rope scenes support register_event([load]"),
+            (scene.register_event(&[purple], "push", "", vec![]).unwrap_err(), "unknown action `push`"),
+            (scene.register_event(&[purple, rope], "increase", "mass", vec![]).unwrap_err(), "one object at a time, got 2"),
+            (scene.register_event(&[purple], "increase", "color", vec![]).unwrap_err(), "rope scenes change `mass`, not `color`"),
+            (scene.happen(&factual, &[rope], "motion", &Target::Text("up".into())).unwrap_err(), "ropes have no motion result"),
+            (scene.happen(&factual, &[purple], "rotation", &Target::Text("clockwise".into())).unwrap_err(), "only pulleys rotate"),
+            (scene.happen(&factual, &[purple], "motion", &Target::Text("left".into())).unwrap_err(), "'up', 'down' or 'stationary', not `left`"),
+            (scene.happen(&factual, &[purple], "entering", &Target::Text(String::new())).unwrap_err(), "belongs to other scenarios"),
+            (scene.happen(&factual, &[purple, rope], "motion", &Target::Text("up".into())).unwrap_err(), "one object at a time, got 2"),
+            (scene.happen(&factual, &[], "motion", &Target::Text("up".into())).unwrap_err(), "one object at a time, got 0"),
+        ];
+        for (index, (error, expected)) in cases.into_iter().enumerate() {
+            assert_eq!(error.kind(), "misuse", "case {index}: {error}");
+            assert!(error.to_string().contains(expected), "case {index}: `{error}` lacks `{expected}`");
+        }
+    }
+
+    #[test]
+    fn broken_annotation_is_a_data_error_on_first_use() {
+        let dir = tempfile::tempdir().unwrap();
+        fs_err::write(dir.path().join("outputs.json"), r#"{"validity": true, "relatedGroups": []}"#).unwrap();
+        let video = crate::dataset::VideoFolder { scenario: Scenario::Rope, id: VideoId("x".into()), dir: dir.path().to_path_buf() };
+        let scene = Scene::open(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation));
+        let error = scene.find("cube").unwrap_err().to_string();
+        assert!(error.contains("field `relatedGroupsInRope` is missing"), "{error}");
+        assert_eq!(scene.find("cube").unwrap_err().kind(), "data");
+        assert_eq!(scene.find("cube").unwrap_err().to_string(), error, "the failure is memoised");
+        assert_eq!(scene.work().annotation_loads, 1);
+    }
+}
