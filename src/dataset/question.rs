@@ -323,6 +323,17 @@ impl Question {
         self.family.category()
     }
 
+    /// The units of work of this question: one for an open-ended question, one per option for a
+    /// choice question (the paper's "question | option" pairs). Ids are `<question>` and
+    /// `<question>:<letter>`.
+    pub fn units(&self) -> Vec<(String, Option<&ChoiceOption>)> {
+        if self.options.is_empty() {
+            vec![(self.id.0.clone(), None)]
+        } else {
+            self.options.iter().map(|o| (format!("{}:{}", self.id.0, o.letter), Some(o))).collect()
+        }
+    }
+
     /// The option with `letter`, if any.
     pub fn option(&self, letter: char) -> Option<&ChoiceOption> {
         self.options.iter().find(|o| o.letter == letter)

@@ -1,0 +1,155 @@
+//! What a run saves per unit ([`Prediction`], one line of `predictions.jsonl`) and per question
+//! ([`EvalQuestion`], in `questions.json`), so a run directory can be re-scored on its own.
+
+use serde::{Deserialize, Serialize};
+
+use super::Priors;
+use crate::dataset::{AnswerType, Category, ChoiceOption, Question, Scenario};
+use crate::scene_api::WorkCounters;
+
+/// The pipeline stage where a unit failed (DESIGN.md §1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Rendering the prompt.
+    Prompt,
+    /// Calling the LLM.
+    Llm,
+    /// Extracting code from a completion.
+    Extract,
+    /// Getting a program from its source (builtin writer, cache replay).
+    Program,
+    /// Running the program (syntax, Python errors, limits, worker crashes).
+    Sandbox,
+    /// A scene API call failed (misuse, unavailable data, broken annotations).
+    SceneApi,
+    /// Turning the program's value into an answer.
+    Answer,
+}
+
+impl Stage {
+    /// All stages in pipeline order.
+    pub const ALL: [Stage; 7] =
+        [Stage::Prompt, Stage::Llm, Stage::Extract, Stage::Program, Stage::Sandbox, Stage::SceneApi, Stage::Answer];
+
+    /// The snake-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Prompt => "prompt",
+            Stage::Llm => "llm",
+            Stage::Extract => "extract",
+            Stage::Program => "program",
+            Stage::Sandbox => "sandbox",
+            Stage::SceneApi => "scene_api",
+            Stage::Answer => "answer",
+        }
+    }
+}
+
+/// Why a unit failed.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct UnitError {
+    /// Where.
+    pub stage: Stage,
+    /// A short stable kind (`timeout`, `misuse`, `cache_miss`, `NameError`...).
+    pub kind: String,
+    /// The message for humans.
+    pub message: String,
+}
+
+/// One unit's result: a line of `predictions.jsonl`. Fields ending in `_ms` are timings, the
+/// only fields that may differ between two runs of the same inputs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Prediction {
+    /// `<question>` or `<question>:<letter>`.
+    pub unit: String,
+    /// The question.
+    pub question_id: String,
+    /// The option letter, for choice questions.
+    pub option: Option<char>,
+    /// The scenario.
+    pub scenario: Scenario,
+    /// The family key.
+    pub family: String,
+    /// The video.
+    pub video_id: String,
+    /// blake3 of the program text, when a program was obtained.
+    pub program_hash: Option<String>,
+    /// Where the program came from (`builtin`, `cache`, ...).
+    pub program_origin: Option<String>,
+    /// The program's value as JSON, when it produced one.
+    pub value: Option<serde_json::Value>,
+    /// The normalised answer (`yes`, `no`, `can not answer`, `3`); for options, `yes`/`no` means
+    /// the program judged the option true/false.
+    pub answer: Option<String>,
+    /// Whether the unit is correct against the gold answer.
+    pub correct: bool,
+    /// The failure, if the unit failed.
+    pub error: Option<UnitError>,
+    /// Work done by the scene API for this unit.
+    pub work: WorkCounters,
+    /// Program time outside the scene API, ms.
+    pub own_ms: u64,
+    /// Time inside scene API calls, ms.
+    pub api_ms: u64,
+    /// Wall time of the unit in the sandbox, ms.
+    pub wall_ms: u64,
+}
+
+/// A question as the scorer needs it (gold included), saved in the run's `questions.json`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EvalQuestion {
+    /// The question id.
+    pub id: String,
+    /// The scenario.
+    pub scenario: Scenario,
+    /// The family key.
+    pub family: String,
+    /// The Table-2 category.
+    pub category: Category,
+    /// Open-ended or choice.
+    pub answer_type: AnswerType,
+    /// The video.
+    pub video_id: String,
+    /// The full question text (options included).
+    pub text: String,
+    /// The gold answer (normalised text, or sorted letters).
+    pub answer: String,
+    /// The options with their gold truth (empty for open-ended questions).
+    pub options: Vec<ChoiceOption>,
+}
+
+impl EvalQuestion {
+    /// The scorer's view of a dataset question.
+    pub fn from_question(question: &Question) -> EvalQuestion {
+        EvalQuestion {
+            id: question.id.0.clone(),
+            scenario: question.scenario,
+            family: question.family.0.clone(),
+            category: question.category(),
+            answer_type: question.answer_type,
+            video_id: question.video_id.0.clone(),
+            text: question.record.question.clone(),
+            answer: question.answer.clone(),
+            options: question.options.clone(),
+        }
+    }
+
+    /// Unit ids, as [`Question::units`] names them.
+    pub fn unit_ids(&self) -> Vec<String> {
+        if self.options.is_empty() {
+            vec![self.id.clone()]
+        } else {
+            self.options.iter().map(|o| format!("{}:{}", self.id, o.letter)).collect()
+        }
+    }
+}
+
+/// The content of a run's `questions.json`: what was evaluated and the baseline priors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunQuestions {
+    /// The evaluated questions, in run order.
+    pub questions: Vec<EvalQuestion>,
+    /// Answer statistics of the train split, for the FRQ and RND baselines.
+    pub priors: Priors,
+}
