@@ -52,7 +52,11 @@ fn describe(value: &Value) -> String {
 
 /// Normalises open-ended answer text: lower case, single spaces, no final period.
 pub fn normalize_text(text: &str) -> String {
-    let collapsed = text.split_whitespace().collect::<Vec<_>>().join(" ").to_lowercase();
+    let collapsed = text
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+        .to_lowercase();
     let trimmed = collapsed.trim_end_matches('.').trim().to_string();
     match trimmed.as_str() {
         "true" => "yes".to_string(),
@@ -129,17 +133,35 @@ mod tests {
         for (value, expected) in cases {
             assert_eq!(interpret(&value, None).unwrap(), expected, "{value}");
         }
-        assert_eq!(interpret(&json!(null), None).unwrap_err(), AnswerError::NoneValue);
-        assert_eq!(interpret(&json!([1, 2]), None).unwrap_err().kind(), "not_an_answer");
+        assert_eq!(
+            interpret(&json!(null), None).unwrap_err(),
+            AnswerError::NoneValue
+        );
+        assert_eq!(
+            interpret(&json!([1, 2]), None).unwrap_err().kind(),
+            "not_an_answer"
+        );
     }
 
     #[test]
     fn option_values_must_be_yes_or_no() {
-        let option = ChoiceOption { letter: 'A', text: "Up".into(), correct: true };
+        let option = ChoiceOption {
+            letter: 'A',
+            text: "Up".into(),
+            correct: true,
+        };
         assert_eq!(interpret(&json!(true), Some(&option)).unwrap(), "yes");
         assert_eq!(interpret(&json!("no"), Some(&option)).unwrap(), "no");
-        assert_eq!(interpret(&json!("maybe"), Some(&option)).unwrap_err().kind(), "not_yes_no");
-        assert_eq!(interpret(&json!(1), Some(&option)).unwrap_err().kind(), "not_yes_no");
+        assert_eq!(
+            interpret(&json!("maybe"), Some(&option))
+                .unwrap_err()
+                .kind(),
+            "not_yes_no"
+        );
+        assert_eq!(
+            interpret(&json!(1), Some(&option)).unwrap_err().kind(),
+            "not_yes_no"
+        );
         assert!(is_correct("yes", "", Some(&option)));
         assert!(!is_correct("no", "", Some(&option)));
         assert!(is_correct("3", "3", None));

@@ -1,1 +1,49 @@
-//! Placeholder for the `app` module; filled in by issue 2 work in progress.
+//! Orchestration: runs the commands, decides stage order and concurrency, turns every unit into
+//! an outcome, and owns the run directory. This is the `anyhow` boundary (house rule 1).
+//!
+//! Input: a [`Request`] built by `cli`. Output: files, text on stdout, and an exit code: 0 when
+//! the command finished (per-question failures are data), 1 for user or data errors, 2 for
+//! internal errors.
+
+mod bench;
+mod error;
+mod exec;
+mod pipeline;
+mod progress;
+mod questions;
+mod run;
+mod run_dir;
+mod score;
+mod settings;
+
+pub use error::{AppError, ErrorClass};
+pub use settings::{
+    BenchSettings, Budgets, CacheSettings, ExecSettings, QuestionsSettings, Request, RunSettings,
+    ScoreSettings, SplitSelection,
+};
+
+use std::io::Write as _;
+use std::process::ExitCode;
+
+/// Runs a request; errors are printed to stderr and mapped to the exit code.
+pub fn execute(request: Request) -> ExitCode {
+    let result = match request {
+        Request::Run(settings) => run::run(&settings),
+        Request::Exec(settings) => exec::exec(&settings),
+        Request::Questions(settings) => questions::questions(&settings),
+        Request::Score(settings) => score::score_runs(&settings),
+        Request::CacheList(settings) => score::cache_list(&settings),
+        Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
+    };
+    match result {
+        Ok(code) => code,
+        Err(error) => {
+            let mut stderr = std::io::stderr().lock();
+            let _ = writeln!(stderr, "error: {:#}", error.error);
+            ExitCode::from(match error.class {
+                ErrorClass::User => 1,
+                ErrorClass::Internal => 2,
+            })
+        }
+    }
+}

@@ -9,15 +9,20 @@ use super::DatasetError;
 
 /// Reads a whole file, naming the path on failure.
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, DatasetError> {
-    #[expect(clippy::disallowed_methods, reason = "the error below names the path itself")]
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "the error below names the path itself"
+    )]
     std::fs::read(path).map_err(|source| DatasetError::read(path, source))
 }
 
 /// Reads and parses a JSON file.
 pub(crate) fn read_json(path: &Path) -> Result<Value, DatasetError> {
     let bytes = read_bytes(path)?;
-    serde_json::from_slice(&bytes)
-        .map_err(|source| DatasetError::Json { path: path.to_path_buf(), source })
+    serde_json::from_slice(&bytes).map_err(|source| DatasetError::Json {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// A JSON value together with the file it came from and its field path.
@@ -46,13 +51,18 @@ impl FieldPath<'_> {
 impl<'a> Node<'a> {
     /// The document root of `file`.
     pub(crate) fn root(file: &'a Path, value: &'a Value) -> Self {
-        Self { file, path: None, value }
+        Self {
+            file,
+            path: None,
+            value,
+        }
     }
-
 
     /// The dotted path of this node (empty at the root).
     pub(crate) fn field_path(&self) -> String {
-        self.path.map(FieldPath::render).unwrap_or_else(|| "<root>".to_string())
+        self.path
+            .map(FieldPath::render)
+            .unwrap_or_else(|| "<root>".to_string())
     }
 
     /// An error about this node.
@@ -85,8 +95,15 @@ impl<'a> Node<'a> {
     ) -> Result<T, DatasetError> {
         let object = self.object_map()?;
         let child = object.get(key).ok_or_else(|| self.missing(key))?;
-        let path = FieldPath { parent: self.path, segment: key.to_string() };
-        visit(Node { file: self.file, path: Some(&path), value: child })
+        let path = FieldPath {
+            parent: self.path,
+            segment: key.to_string(),
+        };
+        visit(Node {
+            file: self.file,
+            path: Some(&path),
+            value: child,
+        })
     }
 
     /// Like [`Node::field`] but `None` when the key is absent.
@@ -99,14 +116,24 @@ impl<'a> Node<'a> {
         match object.get(key) {
             None => Ok(None),
             Some(child) => {
-                let path = FieldPath { parent: self.path, segment: key.to_string() };
-                visit(Node { file: self.file, path: Some(&path), value: child }).map(Some)
+                let path = FieldPath {
+                    parent: self.path,
+                    segment: key.to_string(),
+                };
+                visit(Node {
+                    file: self.file,
+                    path: Some(&path),
+                    value: child,
+                })
+                .map(Some)
             }
         }
     }
 
     fn object_map(&self) -> Result<&'a serde_json::Map<String, Value>, DatasetError> {
-        self.value.as_object().ok_or_else(|| self.error(format!("must be an object, found {}", kind(self.value))))
+        self.value
+            .as_object()
+            .ok_or_else(|| self.error(format!("must be an object, found {}", kind(self.value))))
     }
 
     /// Visits every `(key, child)` of an object in file order.
@@ -117,8 +144,18 @@ impl<'a> Node<'a> {
         let object = self.object_map()?;
         let mut out = Vec::with_capacity(object.len());
         for (key, child) in object {
-            let path = FieldPath { parent: self.path, segment: key.clone() };
-            out.push(visit(key, Node { file: self.file, path: Some(&path), value: child })?);
+            let path = FieldPath {
+                parent: self.path,
+                segment: key.clone(),
+            };
+            out.push(visit(
+                key,
+                Node {
+                    file: self.file,
+                    path: Some(&path),
+                    value: child,
+                },
+            )?);
         }
         Ok(out)
     }
@@ -134,8 +171,15 @@ impl<'a> Node<'a> {
             .ok_or_else(|| self.error(format!("must be an array, found {}", kind(self.value))))?;
         let mut out = Vec::with_capacity(array.len());
         for (index, child) in array.iter().enumerate() {
-            let path = FieldPath { parent: self.path, segment: index.to_string() };
-            out.push(visit(Node { file: self.file, path: Some(&path), value: child })?);
+            let path = FieldPath {
+                parent: self.path,
+                segment: index.to_string(),
+            };
+            out.push(visit(Node {
+                file: self.file,
+                path: Some(&path),
+                value: child,
+            })?);
         }
         Ok(out)
     }
@@ -182,7 +226,10 @@ impl<'a> Node<'a> {
         }
         let number = self.number()?;
         if number.fract() == 0.0 && number.abs() < 9.0e15 {
-            #[expect(clippy::cast_possible_truncation, reason = "checked integral and in range")]
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "checked integral and in range"
+            )]
             Ok(number as i64)
         } else {
             Err(self.error(format!("must be an integer, found {number}")))
@@ -235,9 +282,17 @@ mod tests {
         let error = root
             .field("a", |a| a.field("b", |b| b.items(|item| item.number())))
             .unwrap_err();
-        assert_eq!(error.to_string(), "`outputs.json`: field `a.b.1` must be a number, found a string");
-        let missing = root.field("a", |a| a.field("c", |c| c.string())).unwrap_err();
-        assert_eq!(missing.to_string(), "`outputs.json`: field `a.c` is missing");
+        assert_eq!(
+            error.to_string(),
+            "`outputs.json`: field `a.b.1` must be a number, found a string"
+        );
+        let missing = root
+            .field("a", |a| a.field("c", |c| c.string()))
+            .unwrap_err();
+        assert_eq!(
+            missing.to_string(),
+            "`outputs.json`: field `a.c` is missing"
+        );
     }
 
     #[test]

@@ -64,7 +64,10 @@ impl FourDData {
             })?;
             Ok(tracks.into_iter().collect::<IndexMap<_, _>>())
         })?;
-        Ok(FourDData { rigid_bodies, soft_bodies })
+        Ok(FourDData {
+            rigid_bodies,
+            soft_bodies,
+        })
     }
 
     /// The number of frames: the longest per-frame record of any body.
@@ -77,7 +80,9 @@ impl FourDData {
 
 fn parse_rigid_bodies(node: Node<'_>) -> Result<IndexMap<String, RigidBodyTrack>, DatasetError> {
     let staticity: IndexMap<String, bool> = node
-        .field("rigidbodyStatesStaticity", |n| n.entries(|name, v| Ok((name.to_string(), v.boolean()?))))?
+        .field("rigidbodyStatesStaticity", |n| {
+            n.entries(|name, v| Ok((name.to_string(), v.boolean()?)))
+        })?
         .into_iter()
         .collect();
     let mut poses: IndexMap<String, Vec<([f64; 3], [f64; 3])>> = node
@@ -116,7 +121,12 @@ fn parse_rigid_bodies(node: Node<'_>) -> Result<IndexMap<String, RigidBodyTrack>
         };
         bodies.insert(
             name,
-            RigidBodyTrack { is_static, poses: body_poses, voxels: body_voxels, first_pose },
+            RigidBodyTrack {
+                is_static,
+                poses: body_poses,
+                voxels: body_voxels,
+                first_pose,
+            },
         );
     }
     if let Some(orphan) = poses.keys().next() {
@@ -138,7 +148,8 @@ mod tests {
 
     #[test]
     fn real_sample_4d_has_150_frames_of_poses_and_rope_particles() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs4D.json");
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs4D.json");
         let data = FourDData::load(&path).unwrap();
         assert_eq!(data.frame_count(), 150);
         let cube = &data.rigid_bodies["Purple Cube"];

@@ -31,7 +31,7 @@ pub use question_file::{
 };
 pub use rope::{
     Camera, RopeAnnotation, RopeChange, RopeCounterfactual, RopeCounterfactualPair, RopeObjectKind,
-    parse_rope_object_name, RopeObjectName,
+    RopeObjectName, parse_rope_object_name,
 };
 pub use scenario::Scenario;
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};

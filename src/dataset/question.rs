@@ -88,8 +88,12 @@ pub enum Category {
 
 impl Category {
     /// All categories in Table-2 row order.
-    pub const ALL: [Category; 4] =
-        [Category::Property, Category::Counterfactual, Category::GoalDriven, Category::Predictive];
+    pub const ALL: [Category; 4] = [
+        Category::Property,
+        Category::Counterfactual,
+        Category::GoalDriven,
+        Category::Predictive,
+    ];
 
     /// The one-letter prefix used in Table 2 (`C` for counterfactual).
     pub fn letter(self) -> &'static str {
@@ -270,13 +274,13 @@ impl Question {
                 record.answer_type
             )
         })?;
-        let split = match record.split.as_deref() {
-            None => None,
-            Some(text) => Some(
-                Split::parse(text)
-                    .ok_or_else(|| format!("unknown split `{text}` (expected train, val or test)"))?,
-            ),
-        };
+        let split =
+            match record.split.as_deref() {
+                None => None,
+                Some(text) => Some(Split::parse(text).ok_or_else(|| {
+                    format!("unknown split `{text}` (expected train, val or test)")
+                })?),
+            };
         let mut lines = record.question.split('\n');
         let title = lines.next().unwrap_or_default().trim().to_string();
         if title.is_empty() {
@@ -287,7 +291,11 @@ impl Question {
             let letters = parse_answer_letters(&record.answer, &options)?;
             let options: Vec<ChoiceOption> = options
                 .into_iter()
-                .map(|(letter, text)| ChoiceOption { letter, text, correct: letters.contains(&letter) })
+                .map(|(letter, text)| ChoiceOption {
+                    letter,
+                    text,
+                    correct: letters.contains(&letter),
+                })
                 .collect();
             if answer_type == AnswerType::SingleChoice && letters.len() != 1 {
                 return Err(format!(
@@ -295,7 +303,11 @@ impl Question {
                     record.answer
                 ));
             }
-            let answer = letters.iter().map(char::to_string).collect::<Vec<_>>().join(" ");
+            let answer = letters
+                .iter()
+                .map(char::to_string)
+                .collect::<Vec<_>>()
+                .join(" ");
             (options, answer)
         } else {
             let answer = normalize_open_answer(&record.answer);
@@ -330,7 +342,10 @@ impl Question {
         if self.options.is_empty() {
             vec![(self.id.0.clone(), None)]
         } else {
-            self.options.iter().map(|o| (format!("{}:{}", self.id.0, o.letter), Some(o))).collect()
+            self.options
+                .iter()
+                .map(|o| (format!("{}:{}", self.id.0, o.letter), Some(o)))
+                .collect()
         }
     }
 
@@ -342,7 +357,10 @@ impl Question {
 
 /// Open-ended answers compare case- and space-insensitively (`"Yes "` = `"yes"`).
 pub(crate) fn normalize_open_answer(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ").to_lowercase()
+    text.split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+        .to_lowercase()
 }
 
 fn parse_options<'a>(lines: impl Iterator<Item = &'a str>) -> Result<Vec<(char, String)>, String> {
@@ -353,12 +371,17 @@ fn parse_options<'a>(lines: impl Iterator<Item = &'a str>) -> Result<Vec<(char, 
             continue;
         }
         let mut chars = line.chars();
-        let (Some(letter), Some('.'), Some(' ')) = (chars.next(), chars.next(), chars.next()) else {
-            return Err(format!("option line `{line}` does not start with a letter and `. `"));
+        let (Some(letter), Some('.'), Some(' ')) = (chars.next(), chars.next(), chars.next())
+        else {
+            return Err(format!(
+                "option line `{line}` does not start with a letter and `. `"
+            ));
         };
         let expected = char::from(b'A' + u8::try_from(options.len()).unwrap_or(u8::MAX).min(25));
         if letter != expected {
-            return Err(format!("option `{letter}` is out of order (expected `{expected}`)"));
+            return Err(format!(
+                "option `{letter}` is out of order (expected `{expected}`)"
+            ));
         }
         options.push((letter, chars.as_str().trim().to_string()));
     }
@@ -373,10 +396,14 @@ fn parse_answer_letters(answer: &str, options: &[(char, String)]) -> Result<Vec<
     for token in answer.split_whitespace() {
         let mut chars = token.chars();
         let (Some(letter), None) = (chars.next(), chars.next()) else {
-            return Err(format!("answer `{answer}` must be option letters separated by spaces"));
+            return Err(format!(
+                "answer `{answer}` must be option letters separated by spaces"
+            ));
         };
         if !options.iter().any(|(l, _)| *l == letter) {
-            return Err(format!("answer `{answer}` names option `{letter}`, which does not exist"));
+            return Err(format!(
+                "answer `{answer}` names option `{letter}`, which does not exist"
+            ));
         }
         if letters.contains(&letter) {
             return Err(format!("answer `{answer}` repeats option `{letter}`"));
@@ -409,7 +436,12 @@ mod tests {
     }
 
     fn parse(record: QuestionRecord) -> Result<Question, String> {
-        Question::from_record(QuestionId("q".into()), VideoId("0".into()), Scenario::Rope, record)
+        Question::from_record(
+            QuestionId("q".into()),
+            VideoId("0".into()),
+            Scenario::Rope,
+            record,
+        )
     }
 
     #[test]
@@ -421,7 +453,10 @@ mod tests {
             "multiple_choice",
         ))
         .unwrap();
-        assert_eq!(q.title, "If we want the purple cube to move down, what can we do?");
+        assert_eq!(
+            q.title,
+            "If we want the purple cube to move down, what can we do?"
+        );
         assert_eq!(q.answer, "A B");
         let truth: Vec<(char, bool)> = q.options.iter().map(|o| (o.letter, o.correct)).collect();
         assert_eq!(truth, vec![('A', true), ('B', true), ('C', false)]);
@@ -432,17 +467,48 @@ mod tests {
     #[test]
     fn malformed_records_are_rejected_with_reasons() {
         let cases = [
-            (record("Q?\nA. x\nB. y", "C", "rope_counterfactual", "multiple_choice"), "names option `C`"),
-            (record("Q?\nA. x\nC. y", "A", "rope_counterfactual", "multiple_choice"), "out of order"),
-            (record("Q?", "A", "rope_counterfactual", "multiple_choice"), "no `A. …` option"),
-            (record("Q?\nA. x", "AB", "rope_counterfactual", "multiple_choice"), "option letters"),
+            (
+                record(
+                    "Q?\nA. x\nB. y",
+                    "C",
+                    "rope_counterfactual",
+                    "multiple_choice",
+                ),
+                "names option `C`",
+            ),
+            (
+                record(
+                    "Q?\nA. x\nC. y",
+                    "A",
+                    "rope_counterfactual",
+                    "multiple_choice",
+                ),
+                "out of order",
+            ),
+            (
+                record("Q?", "A", "rope_counterfactual", "multiple_choice"),
+                "no `A. …` option",
+            ),
+            (
+                record("Q?\nA. x", "AB", "rope_counterfactual", "multiple_choice"),
+                "option letters",
+            ),
             (record("Q?", "", "mass", "open_ended"), "answer is empty"),
-            (record("Q?", "yes", "mass", "free_text"), "unknown answer_type"),
-            (record("\nA. x", "A", "x", "multiple_choice"), "question text is empty"),
+            (
+                record("Q?", "yes", "mass", "free_text"),
+                "unknown answer_type",
+            ),
+            (
+                record("\nA. x", "A", "x", "multiple_choice"),
+                "question text is empty",
+            ),
         ];
         for (record, expected) in cases {
             let error = parse(record).unwrap_err();
-            assert!(error.contains(expected), "`{error}` does not contain `{expected}`");
+            assert!(
+                error.contains(expected),
+                "`{error}` does not contain `{expected}`"
+            );
         }
     }
 

@@ -13,7 +13,9 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::fields::read_json;
-use super::{DatasetError, DataRoot, Question, QuestionId, QuestionRecord, Scenario, Split, VideoId};
+use super::{
+    DataRoot, DatasetError, Question, QuestionId, QuestionRecord, Scenario, Split, VideoId,
+};
 
 /// The per-video engine output.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -47,12 +49,18 @@ pub fn sampled_file_path(root: &DataRoot, scenario: Scenario, split: Split) -> P
 
 /// Loads a question file of either form. `scenario` overrides detection from the file name, its
 /// folder or its families.
-pub fn load_question_file(path: &Path, scenario: Option<Scenario>) -> Result<QuestionSource, DatasetError> {
+pub fn load_question_file(
+    path: &Path,
+    scenario: Option<Scenario>,
+) -> Result<QuestionSource, DatasetError> {
     let value = read_json(path)?;
     let records = match &value {
         Value::Object(map) if map.contains_key("question_dict") => {
-            let per_video: PerVideoQuestions = serde_json::from_value(value.clone())
-                .map_err(|source| DatasetError::Json { path: path.to_path_buf(), source })?;
+            let per_video: PerVideoQuestions =
+                serde_json::from_value(value.clone()).map_err(|source| DatasetError::Json {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
             let video_id = per_video.video_id;
             per_video
                 .question_dict
@@ -69,21 +77,26 @@ pub fn load_question_file(path: &Path, scenario: Option<Scenario>) -> Result<Que
         Value::Array(items) => {
             let mut out = Vec::with_capacity(items.len());
             for (index, item) in items.iter().enumerate() {
-                let record: QuestionRecord = serde_json::from_value(item.clone()).map_err(|error| {
-                    DatasetError::Field {
+                let record: QuestionRecord =
+                    serde_json::from_value(item.clone()).map_err(|error| DatasetError::Field {
                         path: path.to_path_buf(),
                         field: index.to_string(),
                         problem: format!("is not a question record: {error}"),
-                    }
-                })?;
+                    })?;
                 let field_error = |field: &str| DatasetError::Field {
                     path: path.to_path_buf(),
                     field: format!("{index}.{field}"),
                     problem: "is missing (sampled question files carry question_id and video_id)"
                         .to_string(),
                 };
-                let id = record.question_id.clone().ok_or_else(|| field_error("question_id"))?;
-                let video = record.video_id.clone().ok_or_else(|| field_error("video_id"))?;
+                let id = record
+                    .question_id
+                    .clone()
+                    .ok_or_else(|| field_error("question_id"))?;
+                let video = record
+                    .video_id
+                    .clone()
+                    .ok_or_else(|| field_error("video_id"))?;
                 out.push((QuestionId(id), VideoId(video), record));
             }
             out
@@ -99,8 +112,13 @@ pub fn load_question_file(path: &Path, scenario: Option<Scenario>) -> Result<Que
     };
     let scenario = match scenario {
         Some(scenario) => scenario,
-        None => detect_scenario(path, records.iter().map(|(_, _, r)| r.question_family.as_str()))
-            .ok_or_else(|| DatasetError::UnknownScenario { path: path.to_path_buf() })?,
+        None => detect_scenario(
+            path,
+            records.iter().map(|(_, _, r)| r.question_family.as_str()),
+        )
+        .ok_or_else(|| DatasetError::UnknownScenario {
+            path: path.to_path_buf(),
+        })?,
     };
     let mut seen = BTreeSet::new();
     let mut questions = Vec::with_capacity(records.len());
@@ -112,21 +130,42 @@ pub fn load_question_file(path: &Path, scenario: Option<Scenario>) -> Result<Que
                 problem: "the id appears more than once".to_string(),
             });
         }
-        let question = Question::from_record(id.clone(), video_id, scenario, record).map_err(
-            |problem| DatasetError::Question { path: path.to_path_buf(), question_id: id.0, problem },
-        )?;
+        let question =
+            Question::from_record(id.clone(), video_id, scenario, record).map_err(|problem| {
+                DatasetError::Question {
+                    path: path.to_path_buf(),
+                    question_id: id.0,
+                    problem,
+                }
+            })?;
         questions.push(question);
     }
-    Ok(QuestionSource { path: path.to_path_buf(), scenario, questions })
+    Ok(QuestionSource {
+        path: path.to_path_buf(),
+        scenario,
+        questions,
+    })
 }
 
 /// The scenario from `pulley_group_test.json`, `pulley_group/0.json`, or the family names.
-fn detect_scenario<'a>(path: &Path, mut families: impl Iterator<Item = &'a str>) -> Option<Scenario> {
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    if let Some(scenario) = Scenario::ALL.into_iter().find(|s| stem.starts_with(s.folder_name())) {
+fn detect_scenario<'a>(
+    path: &Path,
+    mut families: impl Iterator<Item = &'a str>,
+) -> Option<Scenario> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if let Some(scenario) = Scenario::ALL
+        .into_iter()
+        .find(|s| stem.starts_with(s.folder_name()))
+    {
         return Some(scenario);
     }
-    let parent = path.parent().and_then(Path::file_name).map(|n| n.to_string_lossy().into_owned());
+    let parent = path
+        .parent()
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned());
     if let Some(scenario) = parent.as_deref().and_then(Scenario::from_folder_name) {
         return Some(scenario);
     }
@@ -137,12 +176,18 @@ fn detect_scenario<'a>(path: &Path, mut families: impl Iterator<Item = &'a str>)
 }
 
 /// Writes the per-video engine output (4-space indented, as the public engine's `json.dump`).
-pub fn write_per_video_file(path: &Path, questions: &PerVideoQuestions) -> Result<(), crate::util::FsError> {
+pub fn write_per_video_file(
+    path: &Path,
+    questions: &PerVideoQuestions,
+) -> Result<(), crate::util::FsError> {
     crate::util::write_atomic(path, &to_pretty_json(questions))
 }
 
 /// Writes a sampled question list.
-pub fn write_sampled_file(path: &Path, records: &[QuestionRecord]) -> Result<(), crate::util::FsError> {
+pub fn write_sampled_file(
+    path: &Path,
+    records: &[QuestionRecord],
+) -> Result<(), crate::util::FsError> {
     crate::util::write_atomic(path, &to_pretty_json(&records))
 }
 
@@ -198,8 +243,16 @@ mod tests {
     fn bad_files_name_the_problem() {
         let dir = tempfile::tempdir().unwrap();
         let cases = [
-            ("pulley_group_test.json", r#"[{"question": "Q?"#, "is not valid JSON"),
-            ("pulley_group_val.json", r#"{"a": 1}"#, "must be a list of sampled questions"),
+            (
+                "pulley_group_test.json",
+                r#"[{"question": "Q?"#,
+                "is not valid JSON",
+            ),
+            (
+                "pulley_group_val.json",
+                r#"{"a": 1}"#,
+                "must be a list of sampled questions",
+            ),
             (
                 "pulley_group_train.json",
                 r#"[{"question": "Q?", "answer": "no", "question_family": "mass", "answer_type": "open_ended"}]"#,
@@ -217,8 +270,14 @@ mod tests {
             let path = dir.path().join(name);
             fs_err::write(&path, text).unwrap();
             let error = load_question_file(&path, None).unwrap_err().to_string();
-            assert!(error.contains(expected), "{name}: `{error}` lacks `{expected}`");
-            assert!(error.contains(name), "{name}: `{error}` does not name the file");
+            assert!(
+                error.contains(expected),
+                "{name}: `{error}` lacks `{expected}`"
+            );
+            assert!(
+                error.contains(name),
+                "{name}: `{error}` does not name the file"
+            );
         }
     }
 }

@@ -9,8 +9,8 @@ use std::path::Path;
 use indexmap::IndexMap;
 use serde::Serialize;
 
-use super::fields::{Node, read_json};
 use super::DatasetError;
+use super::fields::{Node, read_json};
 
 /// The kind of a rope-scene object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -67,7 +67,12 @@ impl RopeObjectName {
     /// The name without the grid suffix, lower case (`blue solid static pulley`); the public
     /// engine's object key.
     pub fn base_name(&self) -> String {
-        self.full.split('(').next().unwrap_or_default().trim().to_lowercase()
+        self.full
+            .split('(')
+            .next()
+            .unwrap_or_default()
+            .trim()
+            .to_lowercase()
     }
 }
 
@@ -90,7 +95,10 @@ pub fn parse_rope_object_name(name: &str) -> Option<RopeObjectName> {
         }
         None => (name.trim(), None),
     };
-    let words: Vec<String> = words_part.split_whitespace().map(str::to_lowercase).collect();
+    let words: Vec<String> = words_part
+        .split_whitespace()
+        .map(str::to_lowercase)
+        .collect();
     let joined = |slice: &[String]| slice.join(" ");
     let (kind, color_words, pulley_shape, dynamics) = match words.as_slice() {
         [color @ .., last] if last == "cube" => (RopeObjectKind::Cube, color, None, "dynamic"),
@@ -104,7 +112,12 @@ pub fn parse_rope_object_name(name: &str) -> Option<RopeObjectName> {
                 && (shape == "solid" || shape == "hollow")
                 && (dynamics == "static" || dynamics == "dynamic") =>
         {
-            (RopeObjectKind::Pulley, color, Some(shape.clone()), dynamics.as_str())
+            (
+                RopeObjectKind::Pulley,
+                color,
+                Some(shape.clone()),
+                dynamics.as_str(),
+            )
         }
         _ => return None,
     };
@@ -167,9 +180,11 @@ impl RopeChange {
     /// as the public engine does (`round(Item1, 2) > round(Item2, 2)`).
     pub fn is_lighter(&self) -> Option<bool> {
         match self {
-            RopeChange::Mass { before_kg, after_kg, .. } => {
-                Some(round_to_hundredths(*before_kg) > round_to_hundredths(*after_kg))
-            }
+            RopeChange::Mass {
+                before_kg,
+                after_kg,
+                ..
+            } => Some(round_to_hundredths(*before_kg) > round_to_hundredths(*after_kg)),
             _ => None,
         }
     }
@@ -244,7 +259,10 @@ impl RopeAnnotation {
     }
 
     /// Validates an already parsed document; `path` is used in error messages.
-    pub fn from_json(path: &Path, value: &serde_json::Value) -> Result<RopeAnnotation, DatasetError> {
+    pub fn from_json(
+        path: &Path,
+        value: &serde_json::Value,
+    ) -> Result<RopeAnnotation, DatasetError> {
         let root = Node::root(path, value);
         let validity = root.field("validity", |n| n.boolean())?;
         if !validity {
@@ -252,10 +270,16 @@ impl RopeAnnotation {
         }
         let string_list = |node: Node<'_>| node.items(|item| item.string());
         let sign_map = |node: Node<'_>| -> Result<IndexMap<String, i8>, DatasetError> {
-            Ok(node.entries(|key, n| Ok((key.to_string(), n.sign()?)))?.into_iter().collect())
+            Ok(node
+                .entries(|key, n| Ok((key.to_string(), n.sign()?)))?
+                .into_iter()
+                .collect())
         };
         let string_map = |node: Node<'_>| -> Result<IndexMap<String, String>, DatasetError> {
-            Ok(node.entries(|key, n| Ok((key.to_string(), n.string()?)))?.into_iter().collect())
+            Ok(node
+                .entries(|key, n| Ok((key.to_string(), n.string()?)))?
+                .into_iter()
+                .collect())
         };
         let mass_map = |node: Node<'_>| -> Result<IndexMap<String, f64>, DatasetError> {
             let entries = node.entries(|key, n| {
@@ -268,7 +292,9 @@ impl RopeAnnotation {
             Ok(entries.into_iter().collect())
         };
 
-        let mode = root.optional_field("mode", |n| n.string())?.unwrap_or_default();
+        let mode = root
+            .optional_field("mode", |n| n.string())?
+            .unwrap_or_default();
         let related_groups = root.field("relatedGroups", |n| n.items(string_list))?;
         let related_groups_in_rope = root.field("relatedGroupsInRope", |n| {
             n.items(|group| {
@@ -291,10 +317,12 @@ impl RopeAnnotation {
             .into_iter()
             .collect())
         })?;
-        let predictive_event_type =
-            root.optional_field("PredictiveEventType", string_map)?.unwrap_or_default();
-        let predictive_event_body =
-            root.optional_field("PredictiveEventPulleyName", string_map)?.unwrap_or_default();
+        let predictive_event_type = root
+            .optional_field("PredictiveEventType", string_map)?
+            .unwrap_or_default();
+        let predictive_event_body = root
+            .optional_field("PredictiveEventPulleyName", string_map)?
+            .unwrap_or_default();
         let output_mass_kg = root.field("outputMass", mass_map)?;
         let camera = root.optional_field("outputCamera", parse_camera)?.flatten();
         let counterfactuals = root.field("CounterFactualAnnotations", |n| {
@@ -312,7 +340,9 @@ impl RopeAnnotation {
                         })
                     })?
                     .unwrap_or_default();
-                let frames = n.optional_field("perFrameAnnotations", |f| f.len())?.unwrap_or(0);
+                let frames = n
+                    .optional_field("perFrameAnnotations", |f| f.len())?
+                    .unwrap_or(0);
                 Ok((names, frames))
             })?
             .unwrap_or_default();
@@ -344,11 +374,17 @@ impl RopeAnnotation {
             .keys()
             .map(|name| ("outputMass", name))
             .chain(self.result_motion.keys().map(|name| ("ResultMotion", name)))
-            .chain(self.result_rotation.keys().map(|name| ("ResultRotation", name)));
+            .chain(
+                self.result_rotation
+                    .keys()
+                    .map(|name| ("ResultRotation", name)),
+            );
         for (field, name) in named {
             if parse_rope_object_name(name).is_none() {
                 return Err(root.field(field, |n| {
-                    Ok(n.error(format!("has object name `{name}` that is not `<Colour> <Kind>`")))
+                    Ok(n.error(format!(
+                        "has object name `{name}` that is not `<Colour> <Kind>`"
+                    )))
                 })?);
             }
         }
@@ -370,7 +406,10 @@ fn parse_camera(node: Node<'_>) -> Result<Option<Camera>, DatasetError> {
         let position = camera.field("position", |n| n.numbers(Some(3)))?;
         let rotation = camera.field("rotation", |n| n.numbers(Some(3)))?;
         let fov = camera.field("fov", |n| n.numbers(Some(1)))?;
-        let mirrored = camera.optional_field("mirrored", |n| n.integer())?.unwrap_or(0) != 0;
+        let mirrored = camera
+            .optional_field("mirrored", |n| n.integer())?
+            .unwrap_or(0)
+            != 0;
         Ok(Camera {
             position: [position[0], position[1], position[2]],
             rotation_deg: [rotation[0], rotation[1], rotation[2]],
@@ -380,15 +419,25 @@ fn parse_camera(node: Node<'_>) -> Result<Option<Camera>, DatasetError> {
     })
 }
 
-fn parse_counterfactual_pair(key: &str, record: Node<'_>) -> Result<RopeCounterfactualPair, DatasetError> {
+fn parse_counterfactual_pair(
+    key: &str,
+    record: Node<'_>,
+) -> Result<RopeCounterfactualPair, DatasetError> {
     let simulated = record.field("0", parse_counterfactual)?;
     let mirrored = record.field("1", parse_counterfactual)?;
     let baseline_mass_kg = record
         .optional_field("outputMass", |n| {
-            Ok(n.entries(|name, m| Ok((name.to_string(), m.number()?)))?.into_iter().collect())
+            Ok(n.entries(|name, m| Ok((name.to_string(), m.number()?)))?
+                .into_iter()
+                .collect())
         })?
         .unwrap_or_default();
-    Ok(RopeCounterfactualPair { key: key.to_string(), simulated, mirrored, baseline_mass_kg })
+    Ok(RopeCounterfactualPair {
+        key: key.to_string(),
+        simulated,
+        mirrored,
+        baseline_mass_kg,
+    })
 }
 
 fn parse_counterfactual(node: Node<'_>) -> Result<RopeCounterfactual, DatasetError> {
@@ -397,20 +446,32 @@ fn parse_counterfactual(node: Node<'_>) -> Result<RopeCounterfactual, DatasetErr
         "COUNTERFACTUAL_change_one_object_mass" => {
             let target = node.field("TargetObj_Name", |n| n.string())?;
             let (before_kg, after_kg) = node.field("TargetObj_Mass_Before_After", |n| {
-                Ok((n.field("Item1", |m| m.number())?, n.field("Item2", |m| m.number())?))
+                Ok((
+                    n.field("Item1", |m| m.number())?,
+                    n.field("Item2", |m| m.number())?,
+                ))
             })?;
-            RopeChange::Mass { target, before_kg, after_kg }
+            RopeChange::Mass {
+                target,
+                before_kg,
+                after_kg,
+            }
         }
         "COUNTERFACTUAL_pull_object_up_or_down" => {
             let (agent, direction) = node.field("TargetMovingAgent", |n| {
-                Ok((n.field("name", |m| m.string())?, n.field("direction", |m| m.string())?))
+                Ok((
+                    n.field("name", |m| m.string())?,
+                    n.field("direction", |m| m.string())?,
+                ))
             })?;
             RopeChange::Pull { agent, direction }
         }
         _ => RopeChange::Other { mode },
     };
     let sign_map = |n: Node<'_>| -> Result<IndexMap<String, i8>, DatasetError> {
-        Ok(n.entries(|key, v| Ok((key.to_string(), v.sign()?)))?.into_iter().collect())
+        Ok(n.entries(|key, v| Ok((key.to_string(), v.sign()?)))?
+            .into_iter()
+            .collect())
     };
     Ok(RopeCounterfactual {
         change,
@@ -433,19 +494,38 @@ mod tests {
         assert_eq!(pulley.grid, Some((0, 1)));
         assert_eq!(pulley.base_name(), "blue solid static pulley");
         let cube = parse_rope_object_name("Light Blue Cube").unwrap();
-        assert_eq!((cube.color.as_str(), cube.kind), ("light blue", RopeObjectKind::Cube));
+        assert_eq!(
+            (cube.color.as_str(), cube.kind),
+            ("light blue", RopeObjectKind::Cube)
+        );
         let fixed = parse_rope_object_name("Brown Fixed Point").unwrap();
-        assert_eq!((fixed.kind, fixed.dynamics.as_str()), (RopeObjectKind::FixedPoint, "static"));
+        assert_eq!(
+            (fixed.kind, fixed.dynamics.as_str()),
+            (RopeObjectKind::FixedPoint, "static")
+        );
         let movable = parse_rope_object_name("Red Hollow Dynamic Pulley (1 2)").unwrap();
         assert_eq!(movable.dynamics, "dynamic");
-        for not_an_object in ["Solver", "Shaft of Blue Solid Static Pulley (0 1)", "Cube", "Pulley (0 1)", "Red Pulley (x y)"] {
-            assert!(parse_rope_object_name(not_an_object).is_none(), "{not_an_object}");
+        for not_an_object in [
+            "Solver",
+            "Shaft of Blue Solid Static Pulley (0 1)",
+            "Cube",
+            "Pulley (0 1)",
+            "Red Pulley (x y)",
+        ] {
+            assert!(
+                parse_rope_object_name(not_an_object).is_none(),
+                "{not_an_object}"
+            );
         }
     }
 
     #[test]
     fn lighter_compares_rounded_masses() {
-        let change = |before_kg, after_kg| RopeChange::Mass { target: "x".into(), before_kg, after_kg };
+        let change = |before_kg, after_kg| RopeChange::Mass {
+            target: "x".into(),
+            before_kg,
+            after_kg,
+        };
         assert_eq!(change(0.2, 0.1).is_lighter(), Some(true));
         assert_eq!(change(0.2, 0.3).is_lighter(), Some(false));
         assert_eq!(change(0.395, 0.1975).is_lighter(), Some(true));
@@ -459,7 +539,8 @@ mod sample_tests {
     use super::*;
 
     fn sample() -> RopeAnnotation {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs.json");
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs.json");
         RopeAnnotation::load(&path).unwrap()
     }
 
@@ -467,12 +548,25 @@ mod sample_tests {
     fn real_sample_loads_with_expected_contents() {
         let annotation = sample();
         assert_eq!(annotation.mode, "FACTUAL_PREDICTIVE_set_random_mass");
-        let masses: Vec<(&str, f64)> =
-            annotation.output_mass_kg.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        assert_eq!(masses, vec![("Purple Cube", 0.2), ("Green Cube", 0.25), ("Pink Sphere", 0.15)]);
+        let masses: Vec<(&str, f64)> = annotation
+            .output_mass_kg
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect();
+        assert_eq!(
+            masses,
+            vec![
+                ("Purple Cube", 0.2),
+                ("Green Cube", 0.25),
+                ("Pink Sphere", 0.15)
+            ]
+        );
         assert_eq!(annotation.related_groups.len(), 2);
         assert_eq!(annotation.related_groups[1][0], "Brown Fixed Point");
-        assert_eq!(annotation.result_rotation["Blue Solid Static Pulley (0 1)"], 1);
+        assert_eq!(
+            annotation.result_rotation["Blue Solid Static Pulley (0 1)"],
+            1
+        );
         assert_eq!(annotation.result_motion["Green Cube"], -1);
         assert_eq!(annotation.counterfactuals.len(), 5);
         assert_eq!(annotation.mass_counterfactuals().count(), 6);
@@ -487,20 +581,32 @@ mod sample_tests {
 
     #[test]
     fn corrupted_fields_are_named() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs.json");
-        let mut value: serde_json::Value = serde_json::from_slice(&fs_err::read(&path).unwrap()).unwrap();
-        value["CounterFactualAnnotations"]["2"]["0"]["ResultMotion"]["Purple Cube"] = serde_json::json!(3);
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs.json");
+        let mut value: serde_json::Value =
+            serde_json::from_slice(&fs_err::read(&path).unwrap()).unwrap();
+        value["CounterFactualAnnotations"]["2"]["0"]["ResultMotion"]["Purple Cube"] =
+            serde_json::json!(3);
         let error = RopeAnnotation::from_json(Path::new("outputs.json"), &value).unwrap_err();
         assert_eq!(
             error.to_string(),
             "`outputs.json`: field `CounterFactualAnnotations.2.0.ResultMotion.Purple Cube` must be -1, 0 or 1, found 3"
         );
         value["outputMass"]["Green Cube"] = serde_json::json!(-0.2);
-        value["CounterFactualAnnotations"]["2"]["0"]["ResultMotion"]["Purple Cube"] = serde_json::json!(1);
+        value["CounterFactualAnnotations"]["2"]["0"]["ResultMotion"]["Purple Cube"] =
+            serde_json::json!(1);
         let error = RopeAnnotation::from_json(Path::new("outputs.json"), &value).unwrap_err();
-        assert!(error.to_string().contains("field `outputMass.Green Cube` must be a positive mass"), "{error}");
+        assert!(
+            error
+                .to_string()
+                .contains("field `outputMass.Green Cube` must be a positive mass"),
+            "{error}"
+        );
         value.as_object_mut().unwrap().remove("relatedGroups");
         let error = RopeAnnotation::from_json(Path::new("outputs.json"), &value).unwrap_err();
-        assert_eq!(error.to_string(), "`outputs.json`: field `relatedGroups` is missing");
+        assert_eq!(
+            error.to_string(),
+            "`outputs.json`: field `relatedGroups` is missing"
+        );
     }
 }

@@ -21,7 +21,12 @@ pub enum Scenario {
 
 impl Scenario {
     /// All scenarios, in the paper's table order.
-    pub const ALL: [Scenario; 4] = [Scenario::Rope, Scenario::Fluid, Scenario::Cloth, Scenario::Ball];
+    pub const ALL: [Scenario; 4] = [
+        Scenario::Rope,
+        Scenario::Fluid,
+        Scenario::Cloth,
+        Scenario::Ball,
+    ];
 
     /// The short name used on the command line and in reports (`rope`).
     pub fn name(self) -> &'static str {
@@ -55,7 +60,9 @@ impl Scenario {
 
     /// The scenario whose folder name is `folder` (`pulley_group` → rope).
     pub fn from_folder_name(folder: &str) -> Option<Scenario> {
-        Scenario::ALL.into_iter().find(|s| s.folder_name() == folder)
+        Scenario::ALL
+            .into_iter()
+            .find(|s| s.folder_name() == folder)
     }
 }
 
@@ -88,8 +95,14 @@ mod tests {
     fn names_round_trip() {
         for scenario in Scenario::ALL {
             assert_eq!(scenario.name().parse::<Scenario>().unwrap(), scenario);
-            assert_eq!(scenario.folder_name().parse::<Scenario>().unwrap(), scenario);
-            assert_eq!(Scenario::from_folder_name(scenario.folder_name()), Some(scenario));
+            assert_eq!(
+                scenario.folder_name().parse::<Scenario>().unwrap(),
+                scenario
+            );
+            assert_eq!(
+                Scenario::from_folder_name(scenario.folder_name()),
+                Some(scenario)
+            );
         }
         assert_eq!(
             "pulleys".parse::<Scenario>().unwrap_err(),

@@ -38,9 +38,13 @@ impl DataRoot {
     /// Opens a data root; it must be an existing folder.
     pub fn open(dir: &Path) -> Result<DataRoot, DatasetError> {
         if dir.is_dir() {
-            Ok(DataRoot { dir: dir.to_path_buf() })
+            Ok(DataRoot {
+                dir: dir.to_path_buf(),
+            })
         } else {
-            Err(DatasetError::MissingRoot { path: dir.to_path_buf() })
+            Err(DatasetError::MissingRoot {
+                path: dir.to_path_buf(),
+            })
         }
     }
 
@@ -51,7 +55,10 @@ impl DataRoot {
 
     /// The scenarios that have a folder under this root, in table order.
     pub fn scenarios(&self) -> Vec<Scenario> {
-        Scenario::ALL.into_iter().filter(|s| self.scenario_dir(*s).is_dir()).collect()
+        Scenario::ALL
+            .into_iter()
+            .filter(|s| self.scenario_dir(*s).is_dir())
+            .collect()
     }
 
     /// `DATA/<scenario folder>`.
@@ -61,7 +68,11 @@ impl DataRoot {
 
     /// The folder of one video (which may not exist).
     pub fn video(&self, scenario: Scenario, id: &VideoId) -> VideoFolder {
-        VideoFolder { scenario, id: id.clone(), dir: self.scenario_dir(scenario).join(&id.0) }
+        VideoFolder {
+            scenario,
+            id: id.clone(),
+            dir: self.scenario_dir(scenario).join(&id.0),
+        }
     }
 
     /// Lists the video folders of `scenario`: sub-folders holding an `outputs.json`. Invalid
@@ -69,7 +80,10 @@ impl DataRoot {
     /// a half-copied dataset should not silently lose videos.
     pub fn list_videos(&self, scenario: Scenario) -> Result<VideoListing, DatasetError> {
         let dir = self.scenario_dir(scenario);
-        #[expect(clippy::disallowed_methods, reason = "the error below names the path itself")]
+        #[expect(
+            clippy::disallowed_methods,
+            reason = "the error below names the path itself"
+        )]
         let entries = std::fs::read_dir(&dir).map_err(|source| DatasetError::read(&dir, source))?;
         let mut folders = Vec::new();
         for entry in entries {
@@ -79,7 +93,11 @@ impl DataRoot {
                 continue;
             }
             let id = VideoId(entry.file_name().to_string_lossy().into_owned());
-            folders.push(VideoFolder { scenario, id, dir: path });
+            folders.push(VideoFolder {
+                scenario,
+                id,
+                dir: path,
+            });
         }
         folders.sort_by(|a, b| a.id.sort_key().cmp(&b.id.sort_key()));
         let mut listing = VideoListing::default();
@@ -110,16 +128,27 @@ impl VideoFolder {
         }
         let outputs = dir.join("outputs.json");
         if !outputs.is_file() {
-            return Err(DatasetError::MissingAnnotation { path: dir.to_path_buf() });
+            return Err(DatasetError::MissingAnnotation {
+                path: dir.to_path_buf(),
+            });
         }
         let id = VideoId(
-            dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| ".".into()),
+            dir.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| ".".into()),
         );
-        let parent = dir.parent().and_then(Path::file_name).map(|n| n.to_string_lossy().into_owned());
+        let parent = dir
+            .parent()
+            .and_then(Path::file_name)
+            .map(|n| n.to_string_lossy().into_owned());
         let scenario = scenario
             .or_else(|| parent.as_deref().and_then(Scenario::from_folder_name))
             .unwrap_or(Scenario::Rope);
-        Ok(VideoFolder { scenario, id, dir: dir.to_path_buf() })
+        Ok(VideoFolder {
+            scenario,
+            id,
+            dir: dir.to_path_buf(),
+        })
     }
 
     /// `outputs.json`: the annotations.
@@ -157,7 +186,10 @@ pub fn read_validity(path: &Path) -> Result<bool, DatasetError> {
 
 fn peek(path: &Path, bytes: usize) -> Result<String, DatasetError> {
     use std::io::Read;
-    #[expect(clippy::disallowed_methods, reason = "the error below names the path itself")]
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "the error below names the path itself"
+    )]
     let file = std::fs::File::open(path).map_err(|source| DatasetError::read(path, source))?;
     let mut buffer = Vec::with_capacity(bytes);
     file.take(bytes as u64)
@@ -199,8 +231,14 @@ mod tests {
         fs_err::create_dir_all(root.path().join("pulley_group/5")).unwrap();
         let data = DataRoot::open(root.path()).unwrap();
         let error = data.list_videos(Scenario::Rope).unwrap_err();
-        assert!(error.to_string().contains("has no `outputs.json`"), "{error}");
-        write(&root.path().join("pulley_group/5/outputs.json"), r#"{"validity": tr"#);
+        assert!(
+            error.to_string().contains("has no `outputs.json`"),
+            "{error}"
+        );
+        write(
+            &root.path().join("pulley_group/5/outputs.json"),
+            r#"{"validity": tr"#,
+        );
         let error = data.list_videos(Scenario::Rope).unwrap_err();
         assert!(error.to_string().contains("is not valid JSON"), "{error}");
     }

@@ -30,11 +30,17 @@ pub enum WriterError {
 }
 
 fn unrecognised(what: &'static str, text: &str) -> WriterError {
-    WriterError::Unrecognised { what, text: text.to_string() }
+    WriterError::Unrecognised {
+        what,
+        text: text.to_string(),
+    }
 }
 
 /// Writes the program for `question`, or for one of its options.
-pub fn write_program(question: &Question, option: Option<&ChoiceOption>) -> Result<String, WriterError> {
+pub fn write_program(
+    question: &Question,
+    option: Option<&ChoiceOption>,
+) -> Result<String, WriterError> {
     if question.scenario != Scenario::Rope {
         return Err(WriterError::Scenario(question.scenario));
     }
@@ -101,7 +107,9 @@ fn open_ended_body(title: &str) -> Result<String, WriterError> {
         ));
     }
     if let Some(rest) = title.strip_prefix("Is there any ") {
-        let phrase = rest.strip_suffix(" in the video?").ok_or_else(|| unrecognised("question", title))?;
+        let phrase = rest
+            .strip_suffix(" in the video?")
+            .ok_or_else(|| unrecognised("question", title))?;
         return Ok(format!(
             "    found = rope_scene.find({})\n    return bool_to_yesno(len(found) > 0)\n",
             literal(phrase)
@@ -112,7 +120,11 @@ fn open_ended_body(title: &str) -> Result<String, WriterError> {
 
 /// `"{A} {cmp} {factor}that of the {B}?"` → compare `A` with `factor · B`.
 fn comparison_body(property: &str, rest: &str, title: &str) -> Result<String, WriterError> {
-    let comparators = [(" greater than ", ">"), (" less than ", "<"), (" equal to ", "==")];
+    let comparators = [
+        (" greater than ", ">"),
+        (" less than ", "<"),
+        (" equal to ", "=="),
+    ];
     let (first, comparator, after) = comparators
         .iter()
         .filter_map(|(word, op)| rest.find(word).map(|at| (at, *word, *op)))
@@ -172,9 +184,16 @@ struct Outcome {
 
 fn outcome_test(outcome: &Outcome) -> String {
     match outcome.direction {
-        Some(direction) => format!("dynamic_scene.happen(target, \"{}\", \"{direction}\")", outcome.action),
+        Some(direction) => format!(
+            "dynamic_scene.happen(target, \"{}\", \"{direction}\")",
+            outcome.action
+        ),
         None => {
-            let (a, b) = if outcome.action == "motion" { ("up", "down") } else { ("clockwise", "anti-clockwise") };
+            let (a, b) = if outcome.action == "motion" {
+                ("up", "down")
+            } else {
+                ("clockwise", "anti-clockwise")
+            };
             format!(
                 "not (dynamic_scene.happen(target, \"{action}\", \"{a}\") or dynamic_scene.happen(target, \"{action}\", \"{b}\"))",
                 action = outcome.action
@@ -199,29 +218,53 @@ fn counterfactual_body(changed: &str, change: &str, target: &str, outcome: &Outc
 fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
     let lower_title = title.to_lowercase();
     // Goal-driven: "If we want the X to <goal>, what can we do?" | "Increase the mass of the Y".
-    if lower_title.starts_with("if we want the ") || lower_title.starts_with("what can we do to let the ") {
+    if lower_title.starts_with("if we want the ")
+        || lower_title.starts_with("what can we do to let the ")
+    {
         let rest = lower_title
             .strip_prefix("if we want the ")
             .or_else(|| lower_title.strip_prefix("what can we do to let the "))
             .unwrap_or_default();
-        let (target, goal) = rest.split_once(" to ").ok_or_else(|| unrecognised("question", title))?;
-        let goal = goal.trim_end_matches('?').trim_end_matches(", what can we do");
+        let (target, goal) = rest
+            .split_once(" to ")
+            .ok_or_else(|| unrecognised("question", title))?;
+        let goal = goal
+            .trim_end_matches('?')
+            .trim_end_matches(", what can we do");
         let outcome = match goal {
-            "move up" => Outcome { action: "motion", direction: Some("up") },
-            "move down" => Outcome { action: "motion", direction: Some("down") },
-            "rotate clockwise" => Outcome { action: "rotation", direction: Some("clockwise") },
-            "rotate anti-clockwise" => Outcome { action: "rotation", direction: Some("anti-clockwise") },
+            "move up" => Outcome {
+                action: "motion",
+                direction: Some("up"),
+            },
+            "move down" => Outcome {
+                action: "motion",
+                direction: Some("down"),
+            },
+            "rotate clockwise" => Outcome {
+                action: "rotation",
+                direction: Some("clockwise"),
+            },
+            "rotate anti-clockwise" => Outcome {
+                action: "rotation",
+                direction: Some("anti-clockwise"),
+            },
             _ => return Err(unrecognised("question", title)),
         };
         let lower_option = option.to_lowercase();
-        let (change, rest) = if let Some(rest) = lower_option.strip_prefix("increase the mass of ") {
+        let (change, rest) = if let Some(rest) = lower_option.strip_prefix("increase the mass of ")
+        {
             ("increase", rest)
         } else if let Some(rest) = lower_option.strip_prefix("decrease the mass of ") {
             ("decrease", rest)
         } else {
             return Err(unrecognised("option", option));
         };
-        return Ok(counterfactual_body(object_phrase(rest), change, target.trim(), &outcome));
+        return Ok(counterfactual_body(
+            object_phrase(rest),
+            change,
+            target.trim(),
+            &outcome,
+        ));
     }
     let (changed, change) = mass_change(title).ok_or_else(|| unrecognised("question", title))?;
     // Counterfactual "which direction would the X move/rotate" with one-word options.
@@ -242,14 +285,25 @@ fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
             (_, "stationary") => None,
             _ => return Err(unrecognised("option", option)),
         };
-        return Ok(counterfactual_body(&changed, change, target.trim(), &Outcome { action, direction }));
+        return Ok(counterfactual_body(
+            &changed,
+            change,
+            target.trim(),
+            &Outcome { action, direction },
+        ));
     }
     // Counterfactual "what would happen" with sentence options.
     let lower_option = option.trim().to_lowercase();
-    let rest = lower_option.strip_prefix("the ").ok_or_else(|| unrecognised("option", option))?;
+    let rest = lower_option
+        .strip_prefix("the ")
+        .ok_or_else(|| unrecognised("option", option))?;
     let endings: [(&str, &str, Option<&str>); 6] = [
         (" would rotate clockwise", "rotation", Some("clockwise")),
-        (" would rotate anti-clockwise", "rotation", Some("anti-clockwise")),
+        (
+            " would rotate anti-clockwise",
+            "rotation",
+            Some("anti-clockwise"),
+        ),
         (" would not rotate", "rotation", None),
         (" would move up", "motion", Some("up")),
         (" would move down", "motion", Some("down")),
@@ -257,7 +311,12 @@ fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
     ];
     for (ending, action, direction) in endings {
         if let Some(target) = rest.strip_suffix(ending) {
-            return Ok(counterfactual_body(&changed, change, target.trim(), &Outcome { action, direction }));
+            return Ok(counterfactual_body(
+                &changed,
+                change,
+                target.trim(),
+                &Outcome { action, direction },
+            ));
         }
     }
     Err(unrecognised("option", option))
@@ -283,7 +342,13 @@ mod tests {
             split: None,
             extra: indexmap::IndexMap::new(),
         };
-        Question::from_record(QuestionId("q".into()), VideoId("0".into()), Scenario::Rope, record).unwrap()
+        Question::from_record(
+            QuestionId("q".into()),
+            VideoId("0".into()),
+            Scenario::Rope,
+            record,
+        )
+        .unwrap()
     }
 
     #[test]
@@ -307,8 +372,14 @@ mod tests {
             "multiple_choice",
         );
         let first = write_program(&q, q.options.first()).unwrap();
-        assert!(first.contains("rope_scene.register_event(changed, \"decrease\", \"mass\")"), "{first}");
-        assert!(first.contains("dynamic_scene.happen(target, \"rotation\", \"clockwise\")"), "{first}");
+        assert!(
+            first.contains("rope_scene.register_event(changed, \"decrease\", \"mass\")"),
+            "{first}"
+        );
+        assert!(
+            first.contains("dynamic_scene.happen(target, \"rotation\", \"clockwise\")"),
+            "{first}"
+        );
         let second = write_program(&q, q.options.get(1)).unwrap();
         insta::assert_snapshot!(second);
     }
@@ -316,14 +387,54 @@ mod tests {
     #[test]
     fn every_template_family_is_recognised() {
         let cases = [
-            ("Is the tension of the green rope less than twice that of the purple rope?", "open_ended", None, "query_pair('tension'"),
-            ("How many solid pulleys are there in the video?", "open_ended", None, "find(\"solid pulleys\")"),
-            ("How many blue objects are there in the video?", "open_ended", None, "find(\"blue\")"),
-            ("Is there any gray hollow pulley in the video?", "open_ended", None, "find(\"gray hollow pulley\")"),
-            ("Which direction would the blue pulley rotate if the green cube were much heavier?\nA. Clockwise", "multiple_choice", Some(0), "\"increase\""),
-            ("If the pink sphere were much lighter, which direction would the pink sphere move?\nA. Stationary", "multiple_choice", Some(0), "not (dynamic_scene.happen(target, \"motion\", \"up\")"),
-            ("What can we do to let the gray pulley to rotate anti-clockwise?\nA. Decrease the mass of the purple cube", "multiple_choice", Some(0), "happen(target, \"rotation\", \"anti-clockwise\")"),
-            ("Which of the following would happen if the green cube were much heavier?\nA. The purple cube would move up", "multiple_choice", Some(0), "happen(target, \"motion\", \"up\")"),
+            (
+                "Is the tension of the green rope less than twice that of the purple rope?",
+                "open_ended",
+                None,
+                "query_pair('tension'",
+            ),
+            (
+                "How many solid pulleys are there in the video?",
+                "open_ended",
+                None,
+                "find(\"solid pulleys\")",
+            ),
+            (
+                "How many blue objects are there in the video?",
+                "open_ended",
+                None,
+                "find(\"blue\")",
+            ),
+            (
+                "Is there any gray hollow pulley in the video?",
+                "open_ended",
+                None,
+                "find(\"gray hollow pulley\")",
+            ),
+            (
+                "Which direction would the blue pulley rotate if the green cube were much heavier?\nA. Clockwise",
+                "multiple_choice",
+                Some(0),
+                "\"increase\"",
+            ),
+            (
+                "If the pink sphere were much lighter, which direction would the pink sphere move?\nA. Stationary",
+                "multiple_choice",
+                Some(0),
+                "not (dynamic_scene.happen(target, \"motion\", \"up\")",
+            ),
+            (
+                "What can we do to let the gray pulley to rotate anti-clockwise?\nA. Decrease the mass of the purple cube",
+                "multiple_choice",
+                Some(0),
+                "happen(target, \"rotation\", \"anti-clockwise\")",
+            ),
+            (
+                "Which of the following would happen if the green cube were much heavier?\nA. The purple cube would move up",
+                "multiple_choice",
+                Some(0),
+                "happen(target, \"motion\", \"up\")",
+            ),
         ];
         for (text, answer_type, option, expected) in cases {
             let answer = if option.is_some() { "A" } else { "yes" };
@@ -340,15 +451,28 @@ mod tests {
             write_program(&q, None).unwrap_err().to_string(),
             "the builtin writer does not recognise the question `Why is the sky blue?`"
         );
-        let q = question("If the purple cube were much lighter, what would happen?\nA. Nothing", "A", "rope_counterfactual", "multiple_choice");
+        let q = question(
+            "If the purple cube were much lighter, what would happen?\nA. Nothing",
+            "A",
+            "rope_counterfactual",
+            "multiple_choice",
+        );
         assert!(write_program(&q, q.options.first()).is_err());
     }
 
     #[test]
     fn quotes_in_data_cannot_break_out_of_string_literals() {
         assert_eq!(literal("a\"b\\c\nd"), "\"a\\\"b\\\\c\\nd\"");
-        let q = question("How many x\") or __import__(\"os objects are there in the video?", "0", "color", "open_ended");
+        let q = question(
+            "How many x\") or __import__(\"os objects are there in the video?",
+            "0",
+            "color",
+            "open_ended",
+        );
         let program = write_program(&q, None).unwrap();
-        assert!(program.contains(r#"find("x\") or __import__(\"os")"#), "{program}");
+        assert!(
+            program.contains(r#"find("x\") or __import__(\"os")"#),
+            "{program}"
+        );
     }
 }

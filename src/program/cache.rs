@@ -81,7 +81,9 @@ pub struct ProgramCache {
 impl ProgramCache {
     /// A cache at `root` (created on first write).
     pub fn new(root: &Path) -> ProgramCache {
-        ProgramCache { root: root.to_path_buf() }
+        ProgramCache {
+            root: root.to_path_buf(),
+        }
     }
 
     /// The cache folder.
@@ -91,7 +93,10 @@ impl ProgramCache {
 
     fn entry_path(&self, key: &str) -> PathBuf {
         let shard = key.get(..2).unwrap_or("xx");
-        self.root.join(LAYOUT).join(shard).join(format!("{key}.json"))
+        self.root
+            .join(LAYOUT)
+            .join(shard)
+            .join(format!("{key}.json"))
     }
 
     /// The entry for `key`, if cached.
@@ -124,24 +129,39 @@ impl ProgramCache {
         let mut paths = Vec::new();
         for shard in read_dir(&layout)? {
             if shard.is_dir() {
-                paths.extend(read_dir(&shard)?.into_iter().filter(|p| {
-                    p.extension().is_some_and(|e| e == "json")
-                }));
+                paths.extend(
+                    read_dir(&shard)?
+                        .into_iter()
+                        .filter(|p| p.extension().is_some_and(|e| e == "json")),
+                );
             }
         }
-        let mut entries = paths.iter().map(|p| read_entry(p)).collect::<Result<Vec<_>, _>>()?;
+        let mut entries = paths
+            .iter()
+            .map(|p| read_entry(p))
+            .collect::<Result<Vec<_>, _>>()?;
         entries.sort_by(|a, b| a.key.cmp(&b.key));
         Ok(entries)
     }
 }
 
 fn read_dir(dir: &Path) -> Result<Vec<PathBuf>, CacheError> {
-    let error = |source| CacheError::Read { path: dir.to_path_buf(), source };
+    let error = |source| CacheError::Read {
+        path: dir.to_path_buf(),
+        source,
+    };
     #[expect(clippy::disallowed_methods, reason = "the error names the path itself")]
     let entries = std::fs::read_dir(dir).map_err(error)?;
     let mut paths = Vec::new();
     for entry in entries {
-        paths.push(entry.map_err(|source| CacheError::Read { path: dir.to_path_buf(), source })?.path());
+        paths.push(
+            entry
+                .map_err(|source| CacheError::Read {
+                    path: dir.to_path_buf(),
+                    source,
+                })?
+                .path(),
+        );
     }
     paths.sort();
     Ok(paths)
@@ -149,12 +169,24 @@ fn read_dir(dir: &Path) -> Result<Vec<PathBuf>, CacheError> {
 
 fn read_entry(path: &Path) -> Result<CacheEntry, CacheError> {
     #[expect(clippy::disallowed_methods, reason = "the error names the path itself")]
-    let bytes = std::fs::read(path).map_err(|source| CacheError::Read { path: path.to_path_buf(), source })?;
-    let entry: CacheEntry = serde_json::from_slice(&bytes)
-        .map_err(|source| CacheError::Corrupt { path: path.to_path_buf(), source })?;
-    let expected = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let bytes = std::fs::read(path).map_err(|source| CacheError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let entry: CacheEntry =
+        serde_json::from_slice(&bytes).map_err(|source| CacheError::Corrupt {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    let expected = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     if entry.key != expected || cache_key(&entry.key_material) != entry.key {
-        return Err(CacheError::KeyMismatch { path: path.to_path_buf(), found: entry.key });
+        return Err(CacheError::KeyMismatch {
+            path: path.to_path_buf(),
+            found: entry.key,
+        });
     }
     Ok(entry)
 }
@@ -183,12 +215,21 @@ mod tests {
         assert_eq!(cache.get(&first.key).unwrap(), None);
         cache.put(first.clone()).unwrap();
         let replaced = entry(json!({"question": "a"}), "answer = 2");
-        assert_eq!(cache.put(replaced).unwrap().program, "answer = 1", "first writer wins");
-        cache.put(entry(json!({"question": "b"}), "answer = 3")).unwrap();
+        assert_eq!(
+            cache.put(replaced).unwrap().program,
+            "answer = 1",
+            "first writer wins"
+        );
+        cache
+            .put(entry(json!({"question": "b"}), "answer = 3"))
+            .unwrap();
         let listed = cache.list().unwrap();
         assert_eq!(listed.len(), 2);
         assert!(listed[0].key < listed[1].key);
-        assert_eq!(cache.get(&first.key).unwrap().unwrap().program, "answer = 1");
+        assert_eq!(
+            cache.get(&first.key).unwrap().unwrap().program,
+            "answer = 1"
+        );
     }
 
     #[test]
@@ -201,7 +242,10 @@ mod tests {
         let mut tampered = stored.clone();
         tampered.key_material = json!({"question": "other"});
         fs_err::write(&path, serde_json::to_vec(&tampered).unwrap()).unwrap();
-        assert!(matches!(cache.get(&stored.key), Err(CacheError::KeyMismatch { .. })));
+        assert!(matches!(
+            cache.get(&stored.key),
+            Err(CacheError::KeyMismatch { .. })
+        ));
         fs_err::write(&path, b"{\"key\": ").unwrap();
         let error = cache.get(&stored.key).unwrap_err();
         assert!(error.to_string().contains("is corrupt"), "{error}");

@@ -36,38 +36,64 @@ pub struct ReportMeta {
 }
 
 fn percent(correct: f64, total: u64) -> f64 {
-    if total == 0 { 0.0 } else { 100.0 * correct / total as f64 }
+    if total == 0 {
+        0.0
+    } else {
+        100.0 * correct / total as f64
+    }
 }
 
 fn rows_of(group: &GroupScore) -> Vec<Table2Row> {
-    let option_row = |setting: String, model: &Tally, rnd: &ExpectedTally, frq: Option<&Tally>| Table2Row {
-        scenario: group.scenario,
-        setting,
-        model: percent(model.options_correct as f64, model.options),
-        rnd: percent(rnd.options_correct, rnd.options),
-        frq: frq.map(|f| percent(f.options_correct as f64, f.options)),
-        n: model.options,
-    };
-    let question_row = |setting: String, model: &Tally, rnd: &ExpectedTally, frq: Option<&Tally>| Table2Row {
-        scenario: group.scenario,
-        setting,
-        model: percent(model.questions_correct as f64, model.questions),
-        rnd: percent(rnd.questions_correct, rnd.questions),
-        frq: frq.map(|f| percent(f.questions_correct as f64, f.questions)),
-        n: model.questions,
-    };
+    let option_row =
+        |setting: String, model: &Tally, rnd: &ExpectedTally, frq: Option<&Tally>| Table2Row {
+            scenario: group.scenario,
+            setting,
+            model: percent(model.options_correct as f64, model.options),
+            rnd: percent(rnd.options_correct, rnd.options),
+            frq: frq.map(|f| percent(f.options_correct as f64, f.options)),
+            n: model.options,
+        };
+    let question_row =
+        |setting: String, model: &Tally, rnd: &ExpectedTally, frq: Option<&Tally>| Table2Row {
+            scenario: group.scenario,
+            setting,
+            model: percent(model.questions_correct as f64, model.questions),
+            rnd: percent(rnd.questions_correct, rnd.questions),
+            frq: frq.map(|f| percent(f.questions_correct as f64, f.questions)),
+            n: model.questions,
+        };
     match group.category {
-        Category::Property => vec![question_row("Prop.".into(), &group.model, &group.rnd, group.frq.as_ref())],
+        Category::Property => vec![question_row(
+            "Prop.".into(),
+            &group.model,
+            &group.rnd,
+            group.frq.as_ref(),
+        )],
         other => vec![
-            option_row(format!("{}-Opt.", other.letter()), &group.model, &group.rnd, group.frq.as_ref()),
-            question_row(format!("{}-Ques.", other.letter()), &group.model, &group.rnd, group.frq.as_ref()),
+            option_row(
+                format!("{}-Opt.", other.letter()),
+                &group.model,
+                &group.rnd,
+                group.frq.as_ref(),
+            ),
+            question_row(
+                format!("{}-Ques.", other.letter()),
+                &group.model,
+                &group.rnd,
+                group.frq.as_ref(),
+            ),
         ],
     }
 }
 
 /// The Table-2 rows of a run, in the paper's order (scenario, then Prop., C, G, P).
 pub fn table2_rows(scores: &Scores) -> Vec<Table2Row> {
-    scores.categories.iter().filter(|g| g.model.questions > 0).flat_map(rows_of).collect()
+    scores
+        .categories
+        .iter()
+        .filter(|g| g.model.questions > 0)
+        .flat_map(rows_of)
+        .collect()
 }
 
 fn cell(value: Option<f64>) -> String {
@@ -81,18 +107,33 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
     let _ = writeln!(out, "- program source: {}", meta.program_source);
     let _ = writeln!(out, "- backends: {}", meta.backends);
     let _ = writeln!(out, "- questions: {}", meta.questions);
-    let failed: u64 = scores.failures.values().flat_map(|kinds| kinds.values()).sum();
+    let failed: u64 = scores
+        .failures
+        .values()
+        .flat_map(|kinds| kinds.values())
+        .sum();
     let _ = writeln!(
         out,
         "- units: {} ({} answered, {} failed, {} missing)\n",
         scores.units, scores.units_answered, failed, scores.missing_units
     );
-    let _ = writeln!(out, "## Accuracy (%), in the layout of the paper's Table 2\n");
-    let _ = writeln!(out, "| Subset | Setting | RND | FRQ | {} | n |", meta.program_source);
+    let _ = writeln!(
+        out,
+        "## Accuracy (%), in the layout of the paper's Table 2\n"
+    );
+    let _ = writeln!(
+        out,
+        "| Subset | Setting | RND | FRQ | {} | n |",
+        meta.program_source
+    );
     let _ = writeln!(out, "|---|---|---:|---:|---:|---:|");
     let mut previous: Option<Scenario> = None;
     for row in table2_rows(scores) {
-        let subset = if previous == Some(row.scenario) { "" } else { row.scenario.label() };
+        let subset = if previous == Some(row.scenario) {
+            ""
+        } else {
+            row.scenario.label()
+        };
         previous = Some(row.scenario);
         let _ = writeln!(
             out,
@@ -109,7 +150,10 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
         "\nRND is the expected accuracy of uniform guessing; FRQ answers each family's most frequent train answer (— where the train split has none of that family). n counts questions (options for -Opt. rows).\n"
     );
     let _ = writeln!(out, "## Per family\n");
-    let _ = writeln!(out, "| Subset | Family | Type | Ques. | Opt. | questions | options | failed units |");
+    let _ = writeln!(
+        out,
+        "| Subset | Family | Type | Ques. | Opt. | questions | options | failed units |"
+    );
     let _ = writeln!(out, "|---|---|---|---:|---:|---:|---:|---:|");
     for family in &scores.families {
         let failed: u64 = family.failed_units.values().sum::<u64>() + family.missing_units;
@@ -119,7 +163,10 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
             family.scenario.label(),
             family.family.as_deref().unwrap_or("?"),
             family.category.name(),
-            percent(family.model.questions_correct as f64, family.model.questions),
+            percent(
+                family.model.questions_correct as f64,
+                family.model.questions
+            ),
             percent(family.model.options_correct as f64, family.model.options),
             family.model.questions,
             family.model.options,
@@ -138,7 +185,11 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
             }
         }
         if scores.missing_units > 0 {
-            let _ = writeln!(out, "| (none) | missing prediction | {} |", scores.missing_units);
+            let _ = writeln!(
+                out,
+                "| (none) | missing prediction | {} |",
+                scores.missing_units
+            );
         }
     }
     out
@@ -161,9 +212,19 @@ pub fn render_leaderboard(runs: &[(String, Scores)]) -> String {
     let _ = writeln!(out, "{header}\n{rule}");
     let mut previous: Option<Scenario> = None;
     for baseline in table2_rows(first) {
-        let subset = if previous == Some(baseline.scenario) { "" } else { baseline.scenario.label() };
+        let subset = if previous == Some(baseline.scenario) {
+            ""
+        } else {
+            baseline.scenario.label()
+        };
         previous = Some(baseline.scenario);
-        let _ = write!(out, "| {subset} | {} | {:.1} | {} |", baseline.setting, baseline.rnd, cell(baseline.frq));
+        let _ = write!(
+            out,
+            "| {subset} | {} | {:.1} | {} |",
+            baseline.setting,
+            baseline.rnd,
+            cell(baseline.frq)
+        );
         for rows in &per_run {
             let value = rows
                 .iter()

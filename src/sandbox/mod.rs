@@ -1,1 +1,3 @@
-//! Placeholder for the `sandbox` module; filled in by issue 2 work in progress.
+//! The sandbox (work in progress on this branch: scene bindings only).
+
+mod scene_host;

@@ -11,8 +11,10 @@ use indexmap::IndexMap;
 
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::scene::{EventAction, Property, SceneEvent, ScenarioBackend, Target};
-use crate::dataset::{RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name};
+use super::scene::{EventAction, Property, ScenarioBackend, SceneEvent, Target};
+use crate::dataset::{
+    RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name,
+};
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
@@ -54,7 +56,10 @@ impl RopeBackend {
             for elements in group.values() {
                 for element in elements {
                     if let Some(parsed) = parse_rope_object_name(element) {
-                        if matches!(parsed.kind, RopeObjectKind::Pulley | RopeObjectKind::FixedPoint) {
+                        if matches!(
+                            parsed.kind,
+                            RopeObjectKind::Pulley | RopeObjectKind::FixedPoint
+                        ) {
                             push_unique(&mut names, element);
                         }
                     }
@@ -83,7 +88,12 @@ impl RopeBackend {
         let group: Vec<Option<usize>> = objects.iter().map(|o| group_of_name(&o.name)).collect();
         let mass_kg: Vec<Option<f64>> = objects
             .iter()
-            .map(|o| annotation.output_mass_kg.get(&o.name).map(|m| nominal_mass_kg(*m)))
+            .map(|o| {
+                annotation
+                    .output_mass_kg
+                    .get(&o.name)
+                    .map(|m| nominal_mass_kg(*m))
+            })
             .collect();
         let rope_loads = load_rope_map(&annotation);
         let tension_n = objects
@@ -95,27 +105,55 @@ impl RopeBackend {
                 let masses: Vec<f64> = rope_loads
                     .iter()
                     .filter(|(_, rope)| rope.eq_ignore_ascii_case(&o.name))
-                    .filter_map(|(load, _)| annotation.output_mass_kg.get(load).map(|m| nominal_mass_kg(*m)))
+                    .filter_map(|(load, _)| {
+                        annotation
+                            .output_mass_kg
+                            .get(load)
+                            .map(|m| nominal_mass_kg(*m))
+                    })
                     .collect();
                 let first = *masses.first()?;
-                masses.iter().all(|m| (m - first).abs() < 1e-9).then_some(first * GRAVITY_M_PER_S2)
+                masses
+                    .iter()
+                    .all(|m| (m - first).abs() < 1e-9)
+                    .then_some(first * GRAVITY_M_PER_S2)
             })
             .collect();
-        RopeBackend { annotation, objects, group, mass_kg, tension_n }
+        RopeBackend {
+            annotation,
+            objects,
+            group,
+            mass_kg,
+            tension_n,
+        }
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
-        self.objects
-            .get(id.0 as usize)
-            .ok_or_else(|| misuse(format!("{function}: object #{} does not belong to this scene", id.0)))
+        self.objects.get(id.0 as usize).ok_or_else(|| {
+            misuse(format!(
+                "{function}: object #{} does not belong to this scene",
+                id.0
+            ))
+        })
     }
 
     /// The results (motion, rotation) of the dynamic scene started by `event`.
-    fn results(&self, event: &SceneEvent) -> Result<(&IndexMap<String, i8>, &IndexMap<String, i8>), ApiError> {
+    fn results(
+        &self,
+        event: &SceneEvent,
+    ) -> Result<(&IndexMap<String, i8>, &IndexMap<String, i8>), ApiError> {
         match event.action {
-            EventAction::Simulate => Ok((&self.annotation.result_motion, &self.annotation.result_rotation)),
+            EventAction::Simulate => Ok((
+                &self.annotation.result_motion,
+                &self.annotation.result_rotation,
+            )),
             EventAction::Increase | EventAction::Decrease => {
-                let load = self.info(event.object.ok_or_else(|| misuse("an increase/decrease event needs an object"))?, "init_dyn_simulation")?;
+                let load = self.info(
+                    event
+                        .object
+                        .ok_or_else(|| misuse("an increase/decrease event needs an object"))?,
+                    "init_dyn_simulation",
+                )?;
                 let lighter = event.action == EventAction::Decrease;
                 let run: Option<&RopeCounterfactual> = self.annotation.mass_counterfactuals().find(|cf| {
                     matches!(&cf.change, RopeChange::Mass { target, .. } if *target == load.name)
@@ -190,14 +228,25 @@ impl ScenarioBackend for RopeBackend {
         &self.objects
     }
 
-    fn query(&self, property: Property, objects: &[ObjectId], function: &str) -> Result<Vec<Option<f64>>, ApiError> {
-        let infos = objects.iter().map(|id| self.info(*id, function)).collect::<Result<Vec<_>, _>>()?;
+    fn query(
+        &self,
+        property: Property,
+        objects: &[ObjectId],
+        function: &str,
+    ) -> Result<Vec<Option<f64>>, ApiError> {
+        let infos = objects
+            .iter()
+            .map(|id| self.info(*id, function))
+            .collect::<Result<Vec<_>, _>>()?;
         let values: Vec<Option<f64>> = match property {
             Property::Mass => infos
                 .iter()
                 .map(|o| {
                     self.mass_kg[o.id.0 as usize].map(Some).ok_or_else(|| {
-                        misuse(format!("{function}: mass is known for cubes and spheres, not for the {}", o.describe()))
+                        misuse(format!(
+                            "{function}: mass is known for cubes and spheres, not for the {}",
+                            o.describe()
+                        ))
                     })
                 })
                 .collect::<Result<_, _>>()?,
@@ -207,7 +256,10 @@ impl ScenarioBackend for RopeBackend {
                     if o.kind == "rope" {
                         Ok(self.tension_n[o.id.0 as usize])
                     } else {
-                        Err(misuse(format!("{function}: tension is a property of ropes, not of the {}", o.describe())))
+                        Err(misuse(format!(
+                            "{function}: tension is a property of ropes, not of the {}",
+                            o.describe()
+                        )))
                     }
                 })
                 .collect::<Result<_, _>>()?,
@@ -256,7 +308,13 @@ impl ScenarioBackend for RopeBackend {
         }
     }
 
-    fn happen(&self, event: &SceneEvent, object: ObjectId, action: &str, target: &Target) -> Result<bool, ApiError> {
+    fn happen(
+        &self,
+        event: &SceneEvent,
+        object: ObjectId,
+        action: &str,
+        target: &Target,
+    ) -> Result<bool, ApiError> {
         let info = self.info(object, "happen")?;
         let Target::Text(target) = target else {
             return Err(misuse(format!(
@@ -268,7 +326,9 @@ impl ScenarioBackend for RopeBackend {
         let (results, wanted) = match action {
             "motion" | "move" | "moving" => {
                 if info.kind == "rope" {
-                    return Err(misuse("happen: ropes have no motion result; ask about a load, pulley or fixed point"));
+                    return Err(misuse(
+                        "happen: ropes have no motion result; ask about a load, pulley or fixed point",
+                    ));
                 }
                 let wanted = match target.as_str() {
                     "up" | "move up" | "upward" | "upwards" => 1,
@@ -284,11 +344,18 @@ impl ScenarioBackend for RopeBackend {
             }
             "rotation" | "rotate" | "rotating" => {
                 if info.kind != "pulley" {
-                    return Err(misuse(format!("happen: only pulleys rotate; the {} has no rotation result", info.describe())));
+                    return Err(misuse(format!(
+                        "happen: only pulleys rotate; the {} has no rotation result",
+                        info.describe()
+                    )));
                 }
                 let wanted = match target.as_str() {
                     "clockwise" | "rotate clockwise" => 1,
-                    "anti-clockwise" | "anticlockwise" | "counter-clockwise" | "counterclockwise" | "rotate anti-clockwise" => -1,
+                    "anti-clockwise"
+                    | "anticlockwise"
+                    | "counter-clockwise"
+                    | "counterclockwise"
+                    | "rotate anti-clockwise" => -1,
                     "stationary" | "none" | "not rotate" => 0,
                     _ => {
                         return Err(misuse(format!(
@@ -298,7 +365,8 @@ impl ScenarioBackend for RopeBackend {
                 };
                 (rotation, wanted)
             }
-            "entering" | "passing" | "collision" | "falling" | "touching" | "droping" | "dropping" => {
+            "entering" | "passing" | "collision" | "falling" | "touching" | "droping"
+            | "dropping" => {
                 return Err(misuse(format!(
                     "happen: `{action}` belongs to other scenarios; rope scenes answer 'motion' (up, down) and 'rotation' (clockwise, anti-clockwise)"
                 )));
@@ -310,7 +378,10 @@ impl ScenarioBackend for RopeBackend {
             }
         };
         let sign = results.get(&info.name).ok_or_else(|| {
-            ApiError::Unavailable(format!("this video has no {action} result for the {}", info.describe()))
+            ApiError::Unavailable(format!(
+                "this video has no {action} result for the {}",
+                info.describe()
+            ))
         })?;
         Ok(i32::from(*sign) == wanted)
     }
@@ -328,12 +399,25 @@ mod tests {
 
     fn scene() -> Scene {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
-        let video = crate::dataset::VideoFolder { scenario: Scenario::Rope, id: VideoId("0".into()), dir };
-        Scene::open(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation))
+        let video = crate::dataset::VideoFolder {
+            scenario: Scenario::Rope,
+            id: VideoId("0".into()),
+            dir,
+        };
+        Scene::open(VideoSpec::new(
+            &video,
+            PerceptionBackend::Annotation,
+            DynamicsBackend::Annotation,
+        ))
     }
 
     fn names(scene: &Scene, query: &str) -> Vec<String> {
-        scene.find(query).unwrap().into_iter().map(|id| scene.object(id).unwrap().describe()).collect()
+        scene
+            .find(query)
+            .unwrap()
+            .into_iter()
+            .map(|id| scene.object(id).unwrap().describe())
+            .collect()
     }
 
     fn one(scene: &Scene, query: &str) -> ObjectId {
@@ -345,15 +429,45 @@ mod tests {
     #[test]
     fn find_matches_colour_kind_shape_and_dynamics_words() {
         let scene = scene();
-        assert_eq!(scene.work().annotation_loads, 0, "opening a scene must not read anything");
+        assert_eq!(
+            scene.work().annotation_loads,
+            0,
+            "opening a scene must not read anything"
+        );
         let cases: [(&str, &[&str]); 10] = [
-            ("purple", &["purple cube", "purple rope", "purple solid pulley"]),
-            ("pulley", &["blue solid pulley", "gray hollow pulley", "pink solid pulley", "purple solid pulley"]),
-            ("solid pulley", &["blue solid pulley", "pink solid pulley", "purple solid pulley"]),
+            (
+                "purple",
+                &["purple cube", "purple rope", "purple solid pulley"],
+            ),
+            (
+                "pulley",
+                &[
+                    "blue solid pulley",
+                    "gray hollow pulley",
+                    "pink solid pulley",
+                    "purple solid pulley",
+                ],
+            ),
+            (
+                "solid pulley",
+                &[
+                    "blue solid pulley",
+                    "pink solid pulley",
+                    "purple solid pulley",
+                ],
+            ),
             ("blue pulley", &["blue solid pulley"]),
             ("cubes", &["purple cube", "green cube"]),
             ("fixed point", &["brown fixed point"]),
-            ("static pulley", &["blue solid pulley", "gray hollow pulley", "pink solid pulley", "purple solid pulley"]),
+            (
+                "static pulley",
+                &[
+                    "blue solid pulley",
+                    "gray hollow pulley",
+                    "pink solid pulley",
+                    "purple solid pulley",
+                ],
+            ),
             ("dynamic pulley", &[]),
             ("red cube", &[]),
             ("red container", &[]),
@@ -362,8 +476,15 @@ mod tests {
             assert_eq!(names(&scene, query), expected, "{query}");
         }
         assert_eq!(scene.find("").unwrap().len(), 10);
-        assert_eq!(names(&scene, "purple solid static pulley (1 0)"), ["purple solid pulley"]);
-        assert_eq!(scene.work().annotation_loads, 1, "the annotation is loaded once");
+        assert_eq!(
+            names(&scene, "purple solid static pulley (1 0)"),
+            ["purple solid pulley"]
+        );
+        assert_eq!(
+            scene.work().annotation_loads,
+            1,
+            "the annotation is loaded once"
+        );
         assert_eq!(scene.work().sim_runs, 0);
     }
 
@@ -373,7 +494,10 @@ mod tests {
         let purple = one(&scene, "purple cube");
         let green = one(&scene, "green cube");
         let pink = one(&scene, "pink sphere");
-        assert_eq!(scene.query_pair("mass", purple, green).unwrap(), (Some(0.2), Some(0.25)));
+        assert_eq!(
+            scene.query_pair("mass", purple, green).unwrap(),
+            (Some(0.2), Some(0.25))
+        );
         assert_eq!(scene.query_pair("mass", green, pink).unwrap(), (None, None));
         assert_eq!(scene.query_single("mass", pink).unwrap(), Some(0.15));
         let purple_rope = one(&scene, "purple rope");
@@ -382,17 +506,37 @@ mod tests {
         assert_eq!(scene.query_single("tension", purple_rope).unwrap(), None);
         let pink_weight = scene.query_single("tension", green_rope).unwrap().unwrap();
         assert!((pink_weight - 0.15 * 9.81).abs() < 1e-12);
-        assert_eq!(scene.query_pair("tension", purple_rope, green_rope).unwrap(), (None, None));
+        assert_eq!(
+            scene
+                .query_pair("tension", purple_rope, green_rope)
+                .unwrap(),
+            (None, None)
+        );
         let pulley = one(&scene, "blue pulley");
         let cases = [
-            (scene.query_single("mass", pulley).unwrap_err(), "mass is known for cubes and spheres, not for the blue solid pulley"),
-            (scene.query_single("tension", purple).unwrap_err(), "tension is a property of ropes"),
-            (scene.query_single("density", purple).unwrap_err(), "property `density` does not apply to rope scenes"),
-            (scene.query_single("weight", purple).unwrap_err(), "unknown property `weight`; properties are mass, tension"),
+            (
+                scene.query_single("mass", pulley).unwrap_err(),
+                "mass is known for cubes and spheres, not for the blue solid pulley",
+            ),
+            (
+                scene.query_single("tension", purple).unwrap_err(),
+                "tension is a property of ropes",
+            ),
+            (
+                scene.query_single("density", purple).unwrap_err(),
+                "property `density` does not apply to rope scenes",
+            ),
+            (
+                scene.query_single("weight", purple).unwrap_err(),
+                "unknown property `weight`; properties are mass, tension",
+            ),
         ];
         for (error, expected) in cases {
             assert_eq!(error.kind(), "misuse");
-            assert!(error.to_string().contains(expected), "`{error}` lacks `{expected}`");
+            assert!(
+                error.to_string().contains(expected),
+                "`{error}` lacks `{expected}`"
+            );
         }
     }
 
@@ -405,10 +549,18 @@ mod tests {
         let blue_pulley = one(&scene, "blue pulley");
         let pink_pulley = one(&scene, "pink pulley");
         let purple_pulley = one(&scene, "purple pulley");
-        let lighter_purple = scene.register_event(&[purple], "decrease", "mass", vec![]).unwrap();
-        let heavier_purple = scene.register_event(&[purple], "increase", "mass", vec![]).unwrap();
-        let heavier_green = scene.register_event(&[green], "increase", "mass", vec![]).unwrap();
-        let lighter_pink = scene.register_event(&[pink], "decrease", "mass", vec![]).unwrap();
+        let lighter_purple = scene
+            .register_event(&[purple], "decrease", "mass", vec![])
+            .unwrap();
+        let heavier_purple = scene
+            .register_event(&[purple], "increase", "mass", vec![])
+            .unwrap();
+        let heavier_green = scene
+            .register_event(&[green], "increase", "mass", vec![])
+            .unwrap();
+        let lighter_pink = scene
+            .register_event(&[pink], "decrease", "mass", vec![])
+            .unwrap();
         let factual = scene.register_event(&[], "simulate", "", vec![]).unwrap();
         let up = Target::Text("up".into());
         let down = Target::Text("down".into());
@@ -433,9 +585,17 @@ mod tests {
             (&factual, blue_pulley, "rotation", &clockwise, true),
         ];
         for (index, (event, object, action, target, expected)) in cases.into_iter().enumerate() {
-            assert_eq!(scene.happen(event, &[object], action, target).unwrap(), expected, "case {index}");
+            assert_eq!(
+                scene.happen(event, &[object], action, target).unwrap(),
+                expected,
+                "case {index}"
+            );
         }
-        assert_eq!(scene.work().sim_runs, 0, "oracle dynamics read annotations, they do not simulate");
+        assert_eq!(
+            scene.work().sim_runs,
+            0,
+            "oracle dynamics read annotations, they do not simulate"
+        );
     }
 
     #[test]
@@ -446,34 +606,126 @@ mod tests {
         let pulley = one(&scene, "blue pulley");
         let factual = scene.register_event(&[], "simulate", "", vec![]).unwrap();
         let cases = [
-            (scene.register_event(&[pulley], "increase", "mass", vec![]).unwrap_err(), "only the mass of a cube or sphere can change"),
-            (scene.register_event(&[purple], "remove", "", vec![]).unwrap_err(), "rope scenes support register_event([load]"),
-            (scene.register_event(&[purple], "push", "", vec![]).unwrap_err(), "unknown action `push`"),
-            (scene.register_event(&[purple, rope], "increase", "mass", vec![]).unwrap_err(), "one object at a time, got 2"),
-            (scene.register_event(&[purple], "increase", "color", vec![]).unwrap_err(), "rope scenes change `mass`, not `color`"),
-            (scene.happen(&factual, &[rope], "motion", &Target::Text("up".into())).unwrap_err(), "ropes have no motion result"),
-            (scene.happen(&factual, &[purple], "rotation", &Target::Text("clockwise".into())).unwrap_err(), "only pulleys rotate"),
-            (scene.happen(&factual, &[purple], "motion", &Target::Text("left".into())).unwrap_err(), "'up', 'down' or 'stationary', not `left`"),
-            (scene.happen(&factual, &[purple], "entering", &Target::Text(String::new())).unwrap_err(), "belongs to other scenarios"),
-            (scene.happen(&factual, &[purple, rope], "motion", &Target::Text("up".into())).unwrap_err(), "one object at a time, got 2"),
-            (scene.happen(&factual, &[], "motion", &Target::Text("up".into())).unwrap_err(), "one object at a time, got 0"),
+            (
+                scene
+                    .register_event(&[pulley], "increase", "mass", vec![])
+                    .unwrap_err(),
+                "only the mass of a cube or sphere can change",
+            ),
+            (
+                scene
+                    .register_event(&[purple], "remove", "", vec![])
+                    .unwrap_err(),
+                "rope scenes support register_event([load]",
+            ),
+            (
+                scene
+                    .register_event(&[purple], "push", "", vec![])
+                    .unwrap_err(),
+                "unknown action `push`",
+            ),
+            (
+                scene
+                    .register_event(&[purple, rope], "increase", "mass", vec![])
+                    .unwrap_err(),
+                "one object at a time, got 2",
+            ),
+            (
+                scene
+                    .register_event(&[purple], "increase", "color", vec![])
+                    .unwrap_err(),
+                "rope scenes change `mass`, not `color`",
+            ),
+            (
+                scene
+                    .happen(&factual, &[rope], "motion", &Target::Text("up".into()))
+                    .unwrap_err(),
+                "ropes have no motion result",
+            ),
+            (
+                scene
+                    .happen(
+                        &factual,
+                        &[purple],
+                        "rotation",
+                        &Target::Text("clockwise".into()),
+                    )
+                    .unwrap_err(),
+                "only pulleys rotate",
+            ),
+            (
+                scene
+                    .happen(&factual, &[purple], "motion", &Target::Text("left".into()))
+                    .unwrap_err(),
+                "'up', 'down' or 'stationary', not `left`",
+            ),
+            (
+                scene
+                    .happen(
+                        &factual,
+                        &[purple],
+                        "entering",
+                        &Target::Text(String::new()),
+                    )
+                    .unwrap_err(),
+                "belongs to other scenarios",
+            ),
+            (
+                scene
+                    .happen(
+                        &factual,
+                        &[purple, rope],
+                        "motion",
+                        &Target::Text("up".into()),
+                    )
+                    .unwrap_err(),
+                "one object at a time, got 2",
+            ),
+            (
+                scene
+                    .happen(&factual, &[], "motion", &Target::Text("up".into()))
+                    .unwrap_err(),
+                "one object at a time, got 0",
+            ),
         ];
         for (index, (error, expected)) in cases.into_iter().enumerate() {
             assert_eq!(error.kind(), "misuse", "case {index}: {error}");
-            assert!(error.to_string().contains(expected), "case {index}: `{error}` lacks `{expected}`");
+            assert!(
+                error.to_string().contains(expected),
+                "case {index}: `{error}` lacks `{expected}`"
+            );
         }
     }
 
     #[test]
     fn broken_annotation_is_a_data_error_on_first_use() {
         let dir = tempfile::tempdir().unwrap();
-        fs_err::write(dir.path().join("outputs.json"), r#"{"validity": true, "relatedGroups": []}"#).unwrap();
-        let video = crate::dataset::VideoFolder { scenario: Scenario::Rope, id: VideoId("x".into()), dir: dir.path().to_path_buf() };
-        let scene = Scene::open(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation));
+        fs_err::write(
+            dir.path().join("outputs.json"),
+            r#"{"validity": true, "relatedGroups": []}"#,
+        )
+        .unwrap();
+        let video = crate::dataset::VideoFolder {
+            scenario: Scenario::Rope,
+            id: VideoId("x".into()),
+            dir: dir.path().to_path_buf(),
+        };
+        let scene = Scene::open(VideoSpec::new(
+            &video,
+            PerceptionBackend::Annotation,
+            DynamicsBackend::Annotation,
+        ));
         let error = scene.find("cube").unwrap_err().to_string();
-        assert!(error.contains("field `relatedGroupsInRope` is missing"), "{error}");
+        assert!(
+            error.contains("field `relatedGroupsInRope` is missing"),
+            "{error}"
+        );
         assert_eq!(scene.find("cube").unwrap_err().kind(), "data");
-        assert_eq!(scene.find("cube").unwrap_err().to_string(), error, "the failure is memoised");
+        assert_eq!(
+            scene.find("cube").unwrap_err().to_string(),
+            error,
+            "the failure is memoised"
+        );
         assert_eq!(scene.work().annotation_loads, 1);
     }
 }

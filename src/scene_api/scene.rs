@@ -46,7 +46,11 @@ pub struct VideoSpec {
 
 impl VideoSpec {
     /// A spec for `video` with the given backends.
-    pub fn new(video: &VideoFolder, perception: PerceptionBackend, dynamics: DynamicsBackend) -> Self {
+    pub fn new(
+        video: &VideoFolder,
+        perception: PerceptionBackend,
+        dynamics: DynamicsBackend,
+    ) -> Self {
         VideoSpec {
             video_dir: video.dir.clone(),
             video_id: video.id.0.clone(),
@@ -79,7 +83,9 @@ impl WorkCounters {
     /// `self - earlier`, field by field: the work done between two snapshots.
     pub fn since(&self, earlier: &WorkCounters) -> WorkCounters {
         WorkCounters {
-            annotation_loads: self.annotation_loads.saturating_sub(earlier.annotation_loads),
+            annotation_loads: self
+                .annotation_loads
+                .saturating_sub(earlier.annotation_loads),
             frames_decoded: self.frames_decoded.saturating_sub(earlier.frames_decoded),
             detections: self.detections.saturating_sub(earlier.detections),
             sim_runs: self.sim_runs.saturating_sub(earlier.sim_runs),
@@ -129,7 +135,10 @@ impl Property {
 
     /// The property's name.
     pub fn name(self) -> &'static str {
-        Property::ALL.iter().find(|(_, p)| *p == self).map_or("?", |(name, _)| name)
+        Property::ALL
+            .iter()
+            .find(|(_, p)| *p == self)
+            .map_or("?", |(name, _)| name)
     }
 }
 
@@ -192,11 +201,22 @@ pub(crate) trait ScenarioBackend: Send + Sync {
     /// The scene's objects, in a fixed order; `ObjectId(i)` is element `i`.
     fn objects(&self) -> &[SceneObjectInfo];
     /// Property values of one or two objects; two `None`s when the video cannot compare them.
-    fn query(&self, property: Property, objects: &[ObjectId], function: &str) -> Result<Vec<Option<f64>>, ApiError>;
+    fn query(
+        &self,
+        property: Property,
+        objects: &[ObjectId],
+        function: &str,
+    ) -> Result<Vec<Option<f64>>, ApiError>;
     /// Validates an event for this scenario.
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError>;
     /// Whether `action`/`target` happens to `object` in the dynamic scene started by `event`.
-    fn happen(&self, event: &SceneEvent, object: ObjectId, action: &str, target: &Target) -> Result<bool, ApiError>;
+    fn happen(
+        &self,
+        event: &SceneEvent,
+        object: ObjectId,
+        action: &str,
+        target: &Target,
+    ) -> Result<bool, ApiError>;
 }
 
 /// One video's scene. Opening reads nothing; the first call that needs data loads it once.
@@ -208,14 +228,21 @@ pub struct Scene {
 
 impl std::fmt::Debug for Scene {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Scene").field("spec", &self.spec).field("loaded", &self.backend.get().is_some()).finish()
+        f.debug_struct("Scene")
+            .field("spec", &self.spec)
+            .field("loaded", &self.backend.get().is_some())
+            .finish()
     }
 }
 
 impl Scene {
     /// A scene for `spec`; nothing is read yet.
     pub fn open(spec: VideoSpec) -> Scene {
-        Scene { spec, backend: OnceLock::new(), work: Mutex::new(WorkCounters::default()) }
+        Scene {
+            spec,
+            backend: OnceLock::new(),
+            work: Mutex::new(WorkCounters::default()),
+        }
     }
 
     /// The spec it was opened with.
@@ -274,7 +301,12 @@ impl Scene {
                 Some("load") => o.kind == "cube" || o.kind == "sphere",
                 Some(kind) => o.kind == kind,
             })
-            .filter(|o| query.shape.as_ref().is_none_or(|s| o.shape.as_ref() == Some(s)))
+            .filter(|o| {
+                query
+                    .shape
+                    .as_ref()
+                    .is_none_or(|s| o.shape.as_ref() == Some(s))
+            })
             .filter(|o| query.dynamics.as_ref().is_none_or(|d| *d == o.dynamics))
             .filter(|o| query.grid.is_none_or(|g| o.grid == Some(g)))
             .map(|o| o.id)
@@ -292,10 +324,17 @@ impl Scene {
 
     /// `query_pair(property, a, b)`: both values, with their true ratio, or `(None, None)` when
     /// the video cannot compare them.
-    pub fn query_pair(&self, property: &str, first: ObjectId, second: ObjectId) -> Result<(Option<f64>, Option<f64>), ApiError> {
+    pub fn query_pair(
+        &self,
+        property: &str,
+        first: ObjectId,
+        second: ObjectId,
+    ) -> Result<(Option<f64>, Option<f64>), ApiError> {
         self.count(|w| w.api_calls += 1);
         let property = Property::parse(property, "query_pair")?;
-        let values = self.backend()?.query(property, &[first, second], "query_pair")?;
+        let values = self
+            .backend()?
+            .query(property, &[first, second], "query_pair")?;
         match values.as_slice() {
             [a, b] => Ok((*a, *b)),
             _ => Ok((None, None)),
@@ -303,7 +342,13 @@ impl Scene {
     }
 
     /// `register_event(objects, action, attribute)`.
-    pub fn register_event(&self, objects: &[ObjectId], action: &str, attribute: &str, attribute_objects: Vec<ObjectId>) -> Result<SceneEvent, ApiError> {
+    pub fn register_event(
+        &self,
+        objects: &[ObjectId],
+        action: &str,
+        attribute: &str,
+        attribute_objects: Vec<ObjectId>,
+    ) -> Result<SceneEvent, ApiError> {
         self.count(|w| w.api_calls += 1);
         let action = EventAction::parse(action)?;
         if objects.len() > 1 {
@@ -323,7 +368,13 @@ impl Scene {
     }
 
     /// `SoftDynamicScene.happen(objects, action, target)`.
-    pub fn happen(&self, event: &SceneEvent, objects: &[ObjectId], action: &str, target: &Target) -> Result<bool, ApiError> {
+    pub fn happen(
+        &self,
+        event: &SceneEvent,
+        objects: &[ObjectId],
+        action: &str,
+        target: &Target,
+    ) -> Result<bool, ApiError> {
         self.count(|w| w.api_calls += 1);
         let [object] = objects else {
             return Err(misuse(format!(
@@ -331,13 +382,16 @@ impl Scene {
                 objects.len()
             )));
         };
-        self.backend()?.happen(event, *object, &action.trim().to_lowercase(), target)
+        self.backend()?
+            .happen(event, *object, &action.trim().to_lowercase(), target)
     }
 }
 
 fn load_backend(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     match spec.scenario {
-        Scenario::Rope => Ok(Box::new(RopeBackend::load(&spec.video_dir.join("outputs.json"))?)),
+        Scenario::Rope => Ok(Box::new(RopeBackend::load(
+            &spec.video_dir.join("outputs.json"),
+        )?)),
         other => Err(ApiError::Unavailable(format!(
             "the {other} scene API has no backend yet; only rope scenes can be answered in this version"
         ))),

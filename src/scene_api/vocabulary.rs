@@ -68,7 +68,10 @@ pub fn parse_object_query(name: &str, scenario: Scenario) -> Result<NameQuery, A
         .filter(|w| !w.is_empty())
         .map(str::to_string)
         .collect();
-    let mut query = NameQuery { grid, ..NameQuery::default() };
+    let mut query = NameQuery {
+        grid,
+        ..NameQuery::default()
+    };
     let mut index = 0;
     while index < words.len() {
         let word = words[index].as_str();
@@ -89,7 +92,12 @@ pub fn parse_object_query(name: &str, scenario: Scenario) -> Result<NameQuery, A
         let single = singular(word);
         if FILLER_WORDS.contains(&word) {
         } else if word == "grey" || COLOR_NAMES.contains(&word) {
-            set_once(&mut query.color, if word == "grey" { "gray" } else { word }, name, "colour")?;
+            set_once(
+                &mut query.color,
+                if word == "grey" { "gray" } else { word },
+                name,
+                "colour",
+            )?;
         } else if is_any_kind(&single) {
             set_kind(&mut query, &single, scenario, name)?;
         } else if single == "load" && scenario == Scenario::Rope {
@@ -114,14 +122,24 @@ pub fn parse_object_query(name: &str, scenario: Scenario) -> Result<NameQuery, A
     Ok(query)
 }
 
-fn set_kind(query: &mut NameQuery, kind: &str, scenario: Scenario, name: &str) -> Result<(), ApiError> {
+fn set_kind(
+    query: &mut NameQuery,
+    kind: &str,
+    scenario: Scenario,
+    name: &str,
+) -> Result<(), ApiError> {
     if !kinds(scenario).contains(&kind) {
         query.foreign_kind = true;
     }
     set_once(&mut query.kind, kind, name, "kind")
 }
 
-fn set_once(slot: &mut Option<String>, value: &str, name: &str, what: &str) -> Result<(), ApiError> {
+fn set_once(
+    slot: &mut Option<String>,
+    value: &str,
+    name: &str,
+    what: &str,
+) -> Result<(), ApiError> {
     match slot {
         Some(existing) if existing != value => Err(misuse(format!(
             "find: `{name}` names two different {what}s (`{existing}` and `{value}`); find one object description at a time"
@@ -170,10 +188,17 @@ fn split_grid(text: &str) -> Result<(String, Option<(u32, u32)>), ApiError> {
     let Some((head, tail)) = text.split_once('(') else {
         return Ok((text.to_string(), None));
     };
-    let bad = || misuse(format!("find: `{text}` has a grid id that is not `(layer column)`, e.g. `(0 1)`"));
+    let bad = || {
+        misuse(format!(
+            "find: `{text}` has a grid id that is not `(layer column)`, e.g. `(0 1)`"
+        ))
+    };
     let inner = tail.trim_end().strip_suffix(')').ok_or_else(bad)?;
-    let numbers: Vec<u32> =
-        inner.split_whitespace().map(str::parse).collect::<Result<_, _>>().map_err(|_| bad())?;
+    let numbers: Vec<u32> = inner
+        .split_whitespace()
+        .map(str::parse)
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
     match numbers.as_slice() {
         [layer, column] => Ok((head.to_string(), Some((*layer, *column)))),
         _ => Err(bad()),
@@ -184,7 +209,12 @@ fn split_grid(text: &str) -> Result<(String, Option<(u32, u32)>), ApiError> {
 mod tests {
     use super::*;
 
-    fn query(color: Option<&str>, kind: Option<&str>, shape: Option<&str>, dynamics: Option<&str>) -> NameQuery {
+    fn query(
+        color: Option<&str>,
+        kind: Option<&str>,
+        shape: Option<&str>,
+        dynamics: Option<&str>,
+    ) -> NameQuery {
         NameQuery {
             color: color.map(str::to_string),
             kind: kind.map(str::to_string),
@@ -198,33 +228,75 @@ mod tests {
     #[test]
     fn names_parse_into_features() {
         let cases = [
-            ("blue pulley", query(Some("blue"), Some("pulley"), None, None)),
-            ("the Solid Pulley", query(None, Some("pulley"), Some("solid"), None)),
+            (
+                "blue pulley",
+                query(Some("blue"), Some("pulley"), None, None),
+            ),
+            (
+                "the Solid Pulley",
+                query(None, Some("pulley"), Some("solid"), None),
+            ),
             ("purple", query(Some("purple"), None, None, None)),
             ("cubes", query(None, Some("cube"), None, None)),
             ("fixed point", query(None, Some("fixed point"), None, None)),
-            ("brown fixed points", query(Some("brown"), Some("fixed point"), None, None)),
-            ("light blue sphere", query(Some("light blue"), Some("sphere"), None, None)),
-            ("purple solid static pulley", query(Some("purple"), Some("pulley"), Some("solid"), Some("static"))),
+            (
+                "brown fixed points",
+                query(Some("brown"), Some("fixed point"), None, None),
+            ),
+            (
+                "light blue sphere",
+                query(Some("light blue"), Some("sphere"), None, None),
+            ),
+            (
+                "purple solid static pulley",
+                query(
+                    Some("purple"),
+                    Some("pulley"),
+                    Some("solid"),
+                    Some("static"),
+                ),
+            ),
             ("hollow", query(None, Some("pulley"), Some("hollow"), None)),
             ("grey rope", query(Some("gray"), Some("rope"), None, None)),
         ];
         for (name, expected) in cases {
-            assert_eq!(parse_object_query(name, Scenario::Rope).unwrap(), expected, "{name}");
+            assert_eq!(
+                parse_object_query(name, Scenario::Rope).unwrap(),
+                expected,
+                "{name}"
+            );
         }
         let grid = parse_object_query("blue solid static pulley (0 1)", Scenario::Rope).unwrap();
         assert_eq!(grid.grid, Some((0, 1)));
-        assert!(parse_object_query("red container", Scenario::Rope).unwrap().foreign_kind);
+        assert!(
+            parse_object_query("red container", Scenario::Rope)
+                .unwrap()
+                .foreign_kind
+        );
     }
 
     #[test]
     fn unknown_or_contradictory_words_are_explained() {
-        let error = parse_object_query("banana cube", Scenario::Rope).unwrap_err().to_string();
-        assert!(error.starts_with("find: unknown word `banana` in `banana cube`; a rope scene understands"), "{error}");
-        assert!(error.contains("kinds (cube, sphere, pulley, rope, fixed point)"), "{error}");
-        let error = parse_object_query("red blue cube", Scenario::Rope).unwrap_err().to_string();
+        let error = parse_object_query("banana cube", Scenario::Rope)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with(
+                "find: unknown word `banana` in `banana cube`; a rope scene understands"
+            ),
+            "{error}"
+        );
+        assert!(
+            error.contains("kinds (cube, sphere, pulley, rope, fixed point)"),
+            "{error}"
+        );
+        let error = parse_object_query("red blue cube", Scenario::Rope)
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("two different colours"), "{error}");
-        let error = parse_object_query("pulley (0 x)", Scenario::Rope).unwrap_err().to_string();
+        let error = parse_object_query("pulley (0 x)", Scenario::Rope)
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("grid id"), "{error}");
     }
 }

@@ -44,7 +44,9 @@ impl Priors {
     pub fn from_train(train: &[Question]) -> Priors {
         let mut families: BTreeMap<String, FamilyPrior> = BTreeMap::new();
         for question in train {
-            let prior = families.entry(family_key(question.scenario, &question.family.0)).or_default();
+            let prior = families
+                .entry(family_key(question.scenario, &question.family.0))
+                .or_default();
             if question.options.is_empty() {
                 *prior.answers.entry(question.answer.clone()).or_insert(0) += 1;
             } else {
@@ -57,7 +59,10 @@ impl Priors {
                 }
             }
         }
-        Priors { train_questions: train.len() as u64, families }
+        Priors {
+            train_questions: train.len() as u64,
+            families,
+        }
     }
 
     /// FRQ's answer for an open-ended question of `family`.
@@ -76,11 +81,16 @@ impl Priors {
     /// FRQ's truth for any option of `family`.
     pub fn frequent_option_truth(&self, family_key: &str) -> Option<bool> {
         let prior = self.families.get(family_key)?;
-        (prior.option_true + prior.option_false > 0).then_some(prior.option_true > prior.option_false)
+        (prior.option_true + prior.option_false > 0)
+            .then_some(prior.option_true > prior.option_false)
     }
 
     /// The possible answers of an open-ended family: train answers plus `evaluated` gold answers.
-    pub(crate) fn answer_space<'a>(&'a self, family_key: &str, evaluated: impl Iterator<Item = &'a str>) -> BTreeSet<&'a str> {
+    pub(crate) fn answer_space<'a>(
+        &'a self,
+        family_key: &str,
+        evaluated: impl Iterator<Item = &'a str>,
+    ) -> BTreeSet<&'a str> {
         let mut space: BTreeSet<&str> = evaluated.collect();
         if let Some(prior) = self.families.get(family_key) {
             space.extend(prior.answers.keys().map(String::as_str));

@@ -89,7 +89,10 @@ struct Accumulator {
 
 impl Accumulator {
     fn new() -> Self {
-        Accumulator { frq_complete: true, ..Accumulator::default() }
+        Accumulator {
+            frq_complete: true,
+            ..Accumulator::default()
+        }
     }
 
     fn finish(self, scenario: Scenario, category: Category, family: Option<String>) -> GroupScore {
@@ -160,15 +163,20 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
     // Gold answers per family, for RND's answer spaces.
     let mut gold_answers: BTreeMap<String, Vec<&str>> = BTreeMap::new();
     for question in questions.iter().filter(|q| q.options.is_empty()) {
-        gold_answers.entry(family_key(question.scenario, &question.family)).or_default().push(&question.answer);
+        gold_answers
+            .entry(family_key(question.scenario, &question.family))
+            .or_default()
+            .push(&question.answer);
     }
 
     for question in questions {
         let key = family_key(question.scenario, &question.family);
         let unit_ids = question.unit_ids();
         expected_units += unit_ids.len() as u64;
-        let unit_predictions: Vec<Option<&Prediction>> =
-            unit_ids.iter().map(|id| by_unit.get(id.as_str()).copied()).collect();
+        let unit_predictions: Vec<Option<&Prediction>> = unit_ids
+            .iter()
+            .map(|id| by_unit.get(id.as_str()).copied())
+            .collect();
         let mut failed = Vec::new();
         let mut missing = 0;
         for prediction in &unit_predictions {
@@ -177,14 +185,21 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
                 Some(p) => match &p.error {
                     Some(error) => {
                         failed.push(error.stage.name().to_string());
-                        *failures.entry(error.stage.name().to_string()).or_default().entry(error.kind.clone()).or_insert(0) += 1;
+                        *failures
+                            .entry(error.stage.name().to_string())
+                            .or_default()
+                            .entry(error.kind.clone())
+                            .or_insert(0) += 1;
                     }
                     None => units_answered += 1,
                 },
             }
         }
         missing_units += missing;
-        let correct: Vec<bool> = unit_predictions.iter().map(|p| p.is_some_and(|p| p.correct && p.error.is_none())).collect();
+        let correct: Vec<bool> = unit_predictions
+            .iter()
+            .map(|p| p.is_some_and(|p| p.correct && p.error.is_none()))
+            .collect();
         let options = unit_ids.len() as u64;
         let options_correct = correct.iter().filter(|c| **c).count() as u64;
         let model = Tally {
@@ -196,10 +211,20 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
         let (rnd, frq) = if question.options.is_empty() {
             let evaluated = gold_answers.get(&key).into_iter().flatten().copied();
             let space = priors.answer_space(&key, evaluated).len().max(1) as f64;
-            let rnd = ExpectedTally { questions: 1, questions_correct: 1.0 / space, options: 1, options_correct: 1.0 / space };
+            let rnd = ExpectedTally {
+                questions: 1,
+                questions_correct: 1.0 / space,
+                options: 1,
+                options_correct: 1.0 / space,
+            };
             let frq = priors.frequent_answer(&key).map(|answer| {
                 let hit = u64::from(answer == question.answer);
-                Tally { questions: 1, questions_correct: hit, options: 1, options_correct: hit }
+                Tally {
+                    questions: 1,
+                    questions_correct: hit,
+                    options: 1,
+                    options_correct: hit,
+                }
             });
             (rnd, frq)
         } else {
@@ -210,23 +235,59 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
                 options_correct: options as f64 / 2.0,
             };
             let frq = priors.frequent_option_truth(&key).map(|truth| {
-                let hits = question.options.iter().filter(|o| o.correct == truth).count() as u64;
-                Tally { questions: 1, questions_correct: u64::from(hits == options), options, options_correct: hits }
+                let hits = question
+                    .options
+                    .iter()
+                    .filter(|o| o.correct == truth)
+                    .count() as u64;
+                Tally {
+                    questions: 1,
+                    questions_correct: u64::from(hits == options),
+                    options,
+                    options_correct: hits,
+                }
             });
             (rnd, frq)
         };
-        let result = QuestionResult { model, rnd, frq, failed, missing };
-        add(categories.entry((question.scenario, question.category)).or_insert_with(Accumulator::new), &result);
+        let result = QuestionResult {
+            model,
+            rnd,
+            frq,
+            failed,
+            missing,
+        };
         add(
-            families.entry((question.scenario, question.category, question.family.clone())).or_insert_with(Accumulator::new),
+            categories
+                .entry((question.scenario, question.category))
+                .or_insert_with(Accumulator::new),
+            &result,
+        );
+        add(
+            families
+                .entry((
+                    question.scenario,
+                    question.category,
+                    question.family.clone(),
+                ))
+                .or_insert_with(Accumulator::new),
             &result,
         );
     }
-    let known: std::collections::HashSet<String> = questions.iter().flat_map(EvalQuestion::unit_ids).collect();
-    let unknown_units = by_unit.keys().filter(|unit| !known.contains(**unit)).count() as u64;
+    let known: std::collections::HashSet<String> =
+        questions.iter().flat_map(EvalQuestion::unit_ids).collect();
+    let unknown_units = by_unit
+        .keys()
+        .filter(|unit| !known.contains(**unit))
+        .count() as u64;
     Scores {
-        categories: categories.into_iter().map(|((s, c), acc)| acc.finish(s, c, None)).collect(),
-        families: families.into_iter().map(|((s, c, f), acc)| acc.finish(s, c, Some(f))).collect(),
+        categories: categories
+            .into_iter()
+            .map(|((s, c), acc)| acc.finish(s, c, None))
+            .collect(),
+        families: families
+            .into_iter()
+            .map(|((s, c, f), acc)| acc.finish(s, c, Some(f)))
+            .collect(),
         units: expected_units,
         units_answered,
         failures,
@@ -261,7 +322,11 @@ mod tests {
         let options = truths
             .iter()
             .enumerate()
-            .map(|(i, t)| ChoiceOption { letter: char::from(b'A' + i as u8), text: format!("o{i}"), correct: *t })
+            .map(|(i, t)| ChoiceOption {
+                letter: char::from(b'A' + i as u8),
+                text: format!("o{i}"),
+                correct: *t,
+            })
             .collect();
         EvalQuestion {
             id: id.into(),
@@ -289,7 +354,11 @@ mod tests {
             value: None,
             answer: None,
             correct,
-            error: error.map(|stage| UnitError { stage, kind: "timeout".into(), message: String::new() }),
+            error: error.map(|stage| UnitError {
+                stage,
+                kind: "timeout".into(),
+                message: String::new(),
+            }),
             work: WorkCounters::default(),
             own_ms: 0,
             api_ms: 0,
@@ -299,7 +368,11 @@ mod tests {
 
     #[test]
     fn options_and_questions_are_counted_as_the_paper_defines() {
-        let questions = [choice("1", &[true, false, false]), choice("2", &[true, true]), open("3", "mass", "yes")];
+        let questions = [
+            choice("1", &[true, false, false]),
+            choice("2", &[true, true]),
+            open("3", "mass", "yes"),
+        ];
         let predictions = [
             prediction("1:A", true, None),
             prediction("1:B", true, None),
@@ -313,7 +386,15 @@ mod tests {
         let scores = score(&questions, &predictions, &Priors::default());
         let counterfactual = &scores.categories[1];
         assert_eq!(counterfactual.category, Category::Counterfactual);
-        assert_eq!(counterfactual.model, Tally { questions: 2, questions_correct: 1, options: 5, options_correct: 4 });
+        assert_eq!(
+            counterfactual.model,
+            Tally {
+                questions: 2,
+                questions_correct: 1,
+                options: 5,
+                options_correct: 4
+            }
+        );
         // RND: 5 options × 1/2; questions (1/2)^3 + (1/2)^2.
         assert_eq!(counterfactual.rnd.options_correct, 2.5);
         assert_eq!(counterfactual.rnd.questions_correct, 0.375);
@@ -323,14 +404,33 @@ mod tests {
         assert_eq!(property.failed_units["sandbox"], 1);
         assert_eq!(scores.failures["sandbox"]["timeout"], 1);
         assert_eq!((scores.units, scores.units_answered), (6, 5));
-        assert_eq!((scores.unknown_units, scores.duplicate_units, scores.missing_units), (1, 1, 0));
+        assert_eq!(
+            (
+                scores.unknown_units,
+                scores.duplicate_units,
+                scores.missing_units
+            ),
+            (1, 1, 0)
+        );
     }
 
     #[test]
     fn missing_units_count_as_wrong() {
         let questions = [choice("1", &[true, false])];
-        let scores = score(&questions, &[prediction("1:A", true, None)], &Priors::default());
-        assert_eq!(scores.categories[0].model, Tally { questions: 1, questions_correct: 0, options: 2, options_correct: 1 });
+        let scores = score(
+            &questions,
+            &[prediction("1:A", true, None)],
+            &Priors::default(),
+        );
+        assert_eq!(
+            scores.categories[0].model,
+            Tally {
+                questions: 1,
+                questions_correct: 0,
+                options: 2,
+                options_correct: 1
+            }
+        );
         assert_eq!(scores.missing_units, 1);
     }
 
@@ -341,17 +441,33 @@ mod tests {
         mass.answers.insert("yes".into(), 3);
         mass.answers.insert("no".into(), 3);
         mass.answers.insert("can not answer".into(), 1);
-        let cf = priors.families.entry("rope/rope_counterfactual".into()).or_default();
+        let cf = priors
+            .families
+            .entry("rope/rope_counterfactual".into())
+            .or_default();
         cf.option_true = 2;
         cf.option_false = 5;
-        let questions = [open("1", "mass", "no"), open("2", "mass", "yes"), choice("3", &[false, false]), choice("4", &[true, false])];
+        let questions = [
+            open("1", "mass", "no"),
+            open("2", "mass", "yes"),
+            choice("3", &[false, false]),
+            choice("4", &[true, false]),
+        ];
         let scores = score(&questions, &[], &priors);
         let property = &scores.categories[0];
         // Tie between "no" and "yes" at 3: the smaller text, "no", is FRQ's answer.
         assert_eq!(property.frq.unwrap().questions_correct, 1);
         assert!((property.rnd.questions_correct - 2.0 / 3.0).abs() < 1e-12);
         let counterfactual = &scores.categories[1];
-        assert_eq!(counterfactual.frq.unwrap(), Tally { questions: 2, questions_correct: 1, options: 4, options_correct: 3 });
+        assert_eq!(
+            counterfactual.frq.unwrap(),
+            Tally {
+                questions: 2,
+                questions_correct: 1,
+                options: 4,
+                options_correct: 3
+            }
+        );
         assert_eq!(scores.missing_units, 6);
     }
 }

@@ -29,8 +29,15 @@ pub enum Stage {
 
 impl Stage {
     /// All stages in pipeline order.
-    pub const ALL: [Stage; 7] =
-        [Stage::Prompt, Stage::Llm, Stage::Extract, Stage::Program, Stage::Sandbox, Stage::SceneApi, Stage::Answer];
+    pub const ALL: [Stage; 7] = [
+        Stage::Prompt,
+        Stage::Llm,
+        Stage::Extract,
+        Stage::Program,
+        Stage::Sandbox,
+        Stage::SceneApi,
+        Stage::Answer,
+    ];
 
     /// The snake-case name.
     pub fn name(self) -> &'static str {
@@ -140,7 +147,10 @@ impl EvalQuestion {
         if self.options.is_empty() {
             vec![self.id.clone()]
         } else {
-            self.options.iter().map(|o| format!("{}:{}", self.id, o.letter)).collect()
+            self.options
+                .iter()
+                .map(|o| format!("{}:{}", self.id, o.letter))
+                .collect()
         }
     }
 }

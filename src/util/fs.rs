@@ -26,10 +26,19 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, synced, then renamed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
-    let error = |source| FsError::Write { path: path.to_path_buf(), source };
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let error = |source| FsError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     fs_err::create_dir_all(parent).map_err(error)?;
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let temp = parent.join(format!(
         ".{file_name}.{}.{}.tmp",
         std::process::id(),
@@ -48,8 +57,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
 }
 
 /// Appends one line (a newline is added) to `path`, flushed and synced before returning.
-pub fn append_line_durable(file: &mut fs_err::File, path: &Path, line: &str) -> Result<(), FsError> {
-    let error = |source| FsError::Write { path: path.to_path_buf(), source };
+pub fn append_line_durable(
+    file: &mut fs_err::File,
+    path: &Path,
+    line: &str,
+) -> Result<(), FsError> {
+    let error = |source| FsError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
     let mut buffer = Vec::with_capacity(line.len() + 1);
     buffer.extend_from_slice(line.as_bytes());
     buffer.push(b'\n');

@@ -1,0 +1,414 @@
+//! `run`: questions → programs → sandbox → answers → predictions → scores → report.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use serde_json::json;
+
+use super::error::{AppError, Classify as _, user_error};
+use super::pipeline::{ExecutedUnit, PreparedUnit, execute_units, finish_unit};
+use super::progress::Progress;
+use super::run_dir::{Manifest, RunDir, RunIdentity, unix_ms};
+use super::settings::{RunSettings, SplitSelection};
+use crate::dataset::{
+    ChoiceOption, DataRoot, Question, QuestionSource, Scenario, Split, VideoFolder, load_question_file,
+    read_validity, sampled_file_path,
+};
+use crate::program::{CacheEntry, Program, ProgramCache, ProgramOrigin, builtin, cache_key};
+use crate::report::{ReportMeta, render_run_report};
+use crate::scene_api::VideoSpec;
+use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Stage, UnitError, score};
+use crate::util::content_hash;
+
+/// The program source name recorded in manifests and reports.
+const BUILTIN_SOURCE: &str = "builtin";
+
+pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
+    let root = DataRoot::open(&settings.data).user()?;
+    let (sources, question_files) = load_questions(&root, settings)?;
+    let mut questions: Vec<Question> = sources.into_iter().flat_map(|s| s.questions).collect();
+
+    // Every question must name a video folder; invalid trials are skipped with a count.
+    let mut videos: BTreeMap<(Scenario, String), Option<VideoFolder>> = BTreeMap::new();
+    for (source_index, question) in questions.iter().enumerate() {
+        let key = (question.scenario, question.video_id.0.clone());
+        if videos.contains_key(&key) {
+            continue;
+        }
+        let folder = root.video(question.scenario, &question.video_id);
+        if !folder.outputs_json().is_file() {
+            return Err(AppError {
+                class: super::ErrorClass::User,
+                error: crate::dataset::DatasetError::MissingVideo {
+                    path: question_files.get(source_index).map(|(p, _)| PathBuf::from(p)).unwrap_or_default(),
+                    question_id: question.id.0.clone(),
+                    video_id: question.video_id.0.clone(),
+                    expected: folder.dir.clone(),
+                }
+                .into(),
+            });
+        }
+        let valid = read_validity(&folder.outputs_json()).user()?;
+        videos.insert(key, valid.then_some(folder));
+    }
+    let before = questions.len();
+    questions.retain(|q| videos.get(&(q.scenario, q.video_id.0.clone())).is_some_and(Option::is_some));
+    let skipped_invalid = before - questions.len();
+    if let Some((index, count)) = settings.shard {
+        questions = questions.into_iter().enumerate().filter(|(i, _)| i % count == index).map(|(_, q)| q).collect();
+    }
+    if let Some(limit) = settings.limit {
+        questions.truncate(limit);
+    }
+    if questions.is_empty() {
+        return Err(user_error("no questions to evaluate (check --questions, --split, --scenario, --shard and --limit)"));
+    }
+
+    let priors = load_priors(&root, &questions)?;
+    let identity = RunIdentity {
+        program_source: BUILTIN_SOURCE.to_string(),
+        offline: settings.offline,
+        perception: settings.perception,
+        dynamics: settings.dynamics,
+        budgets: settings.budgets,
+        split: settings.split,
+        question_files: question_files.clone(),
+        data_hash: data_hash(videos.values().flatten())?,
+        limit: settings.limit,
+        shard: settings.shard,
+    };
+
+    let out = settings.out.clone().unwrap_or_else(default_run_dir);
+    let run_dir = RunDir::new(&out);
+    let mut done: Vec<Prediction> = Vec::new();
+    if run_dir.holds_run() {
+        if !settings.resume {
+            return Err(user_error(format!(
+                "`{}` already holds a run; pass --resume to continue it or choose another --out",
+                out.display()
+            )));
+        }
+        let manifest = run_dir.read_manifest()?;
+        if manifest.identity != identity {
+            return Err(user_error(format!(
+                "`{}` holds a run with different settings or data; --resume continues only the same run (use another --out)",
+                out.display()
+            )));
+        }
+        done = run_dir.read_predictions()?;
+    }
+    fs_err::create_dir_all(&out).user()?;
+
+    let eval_questions: Vec<EvalQuestion> = questions.iter().map(EvalQuestion::from_question).collect();
+    let unit_order: Vec<String> = eval_questions.iter().flat_map(EvalQuestion::unit_ids).collect();
+    let started = unix_ms();
+    let mut manifest = Manifest {
+        tool: "contphy-eval".to_string(),
+        tool_version: env!("CARGO_PKG_VERSION").to_string(),
+        identity,
+        data_root: settings.data.display().to_string(),
+        questions: questions.len(),
+        units: unit_order.len(),
+        skipped_invalid_video_questions: skipped_invalid,
+        started_unix_ms: started,
+        finished_unix_ms: 0,
+    };
+    run_dir.write_manifest(&manifest)?;
+    run_dir.write_questions(&RunQuestions { questions: eval_questions.clone(), priors: priors.clone() })?;
+
+    // Units still to do, with their programs.
+    let finished: BTreeSet<&str> = done.iter().map(|p| p.unit.as_str()).collect();
+    let cache = settings.cache.as_deref().map(ProgramCache::new);
+    let mut prepared = Vec::new();
+    let mut immediate: Vec<Prediction> = Vec::new();
+    for (question_index, question) in questions.iter().enumerate() {
+        let Some(Some(video)) = videos.get(&(question.scenario, question.video_id.0.clone())) else {
+            continue;
+        };
+        let spec = VideoSpec::new(video, settings.perception, settings.dynamics);
+        for (unit, option) in question.units() {
+            if finished.contains(unit.as_str()) {
+                continue;
+            }
+            match obtain_program(question, option, &unit, cache.as_ref(), settings.offline)? {
+                Ok(program) => prepared.push(PreparedUnit {
+                    unit,
+                    question_index,
+                    option: option.cloned(),
+                    video: spec.clone(),
+                    program,
+                }),
+                Err(error) => immediate.push(failed_prediction(question, option, &unit, None, error)),
+            }
+        }
+    }
+
+    let progress = Progress::new((prepared.len() + immediate.len()) as u64, settings.quiet);
+    let mut writer = run_dir.prediction_writer()?;
+    let mut failed = 0_u64;
+    let mut new_predictions = Vec::with_capacity(prepared.len() + immediate.len());
+    for prediction in immediate {
+        failed += 1;
+        writer.append(&prediction)?;
+        progress.advance(failed);
+        new_predictions.push(prediction);
+    }
+    let mut write_error: Option<AppError> = None;
+    let units_by_id: BTreeMap<String, (usize, Option<ChoiceOption>, Program)> = prepared
+        .iter()
+        .map(|u| (u.unit.clone(), (u.question_index, u.option.clone(), u.program.clone())))
+        .collect();
+    execute_units(prepared, settings.jobs, settings.budgets, |executed: ExecutedUnit| {
+        let Some((question_index, option, program)) = units_by_id.get(&executed.unit) else {
+            return;
+        };
+        let Some(question) = questions.get(*question_index) else {
+            return;
+        };
+        let prediction = finish_unit(question, option.as_ref(), program, executed);
+        if prediction.error.is_some() {
+            failed += 1;
+        }
+        if write_error.is_none() {
+            if let Err(error) = writer.append(&prediction) {
+                write_error = Some(error);
+            }
+        }
+        progress.advance(failed);
+        new_predictions.push(prediction);
+    })?;
+    progress.finish();
+    if let Some(error) = write_error {
+        return Err(error);
+    }
+
+    let mut all = done;
+    all.extend(new_predictions);
+    run_dir.rewrite_predictions(&all, &unit_order)?;
+    let predictions = run_dir.read_predictions()?;
+    let scores = score(&eval_questions, &predictions, &priors);
+    run_dir.write_json("results.json", &json!({ "scores": scores }))?;
+    let meta = ReportMeta {
+        run_name: out.file_name().map_or_else(|| out.display().to_string(), |n| n.to_string_lossy().into_owned()),
+        program_source: BUILTIN_SOURCE.to_string(),
+        backends: format!(
+            "perception={}, dynamics={}",
+            serde_json::to_value(settings.perception).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
+            serde_json::to_value(settings.dynamics).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
+        ),
+        questions: question_files.iter().map(|(path, _)| path.as_str()).collect::<Vec<_>>().join(", "),
+    };
+    let report = render_run_report(&meta, &scores);
+    run_dir.write_text("report.md", &report)?;
+    manifest.finished_unix_ms = unix_ms();
+    run_dir.write_manifest(&manifest)?;
+
+    let mut stdout = std::io::stdout().lock();
+    let _ = write!(stdout, "{report}");
+    let _ = writeln!(stdout, "\nrun directory: {}", run_dir.dir().display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn default_run_dir() -> PathBuf {
+    let seconds = unix_ms() / 1000;
+    let (days, rest) = (seconds / 86_400, seconds % 86_400);
+    let (year, month, day) = civil_from_days(i64::try_from(days).unwrap_or(0));
+    PathBuf::from("runs").join(format!(
+        "{year:04}{month:02}{day:02}-{:02}{:02}{:02}",
+        rest / 3600,
+        (rest % 3600) / 60,
+        rest % 60
+    ))
+}
+
+/// Gregorian date of a day count since 1970-01-01 (Howard Hinnant's algorithm).
+fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = u32::try_from(doy - (153 * mp + 2) / 5 + 1).unwrap_or(1);
+    let month = u32::try_from(if mp < 10 { mp + 3 } else { mp - 9 }).unwrap_or(1);
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    (year, month, day)
+}
+
+/// The question files of the run: `--questions`, or the sampled files of the split(s).
+fn load_questions(root: &DataRoot, settings: &RunSettings) -> Result<(Vec<QuestionSource>, Vec<(String, String)>), AppError> {
+    let paths: Vec<(PathBuf, Option<Scenario>)> = if settings.questions.is_empty() {
+        let scenarios = if settings.scenarios.is_empty() { root.scenarios() } else { settings.scenarios.clone() };
+        if scenarios.is_empty() {
+            return Err(user_error(format!(
+                "data root `{}` has no scenario folder (pulley_group, fluid_slides, cloth_collision or soft_body)",
+                root.dir().display()
+            )));
+        }
+        let splits: Vec<Split> = match settings.split {
+            SplitSelection::One(split) => vec![split],
+            SplitSelection::All => Split::ALL.to_vec(),
+        };
+        let mut paths = Vec::new();
+        for scenario in scenarios {
+            for split in &splits {
+                let path = sampled_file_path(root, scenario, *split);
+                if !path.is_file() {
+                    return Err(user_error(format!(
+                        "no question file `{}`; generate questions with `contphy-eval questions --data {}` or pass --questions FILE",
+                        path.display(),
+                        root.dir().display()
+                    )));
+                }
+                paths.push((path, Some(scenario)));
+            }
+        }
+        paths
+    } else {
+        settings.questions.iter().map(|p| (p.clone(), None)).collect()
+    };
+    let mut sources = Vec::new();
+    let mut files = Vec::new();
+    for (path, scenario) in paths {
+        let source = load_question_file(&path, scenario).user()?;
+        if !settings.scenarios.is_empty() && !settings.scenarios.contains(&source.scenario) {
+            continue;
+        }
+        let hash = content_hash(&fs_err::read(&path).user()?);
+        files.push((path.display().to_string(), hash));
+        sources.push(source);
+    }
+    Ok((sources, files))
+}
+
+/// Priors of the FRQ/RND baselines from the train split files of the evaluated scenarios.
+fn load_priors(root: &DataRoot, questions: &[Question]) -> Result<Priors, AppError> {
+    let scenarios: BTreeSet<Scenario> = questions.iter().map(|q| q.scenario).collect();
+    let mut train = Vec::new();
+    for scenario in scenarios {
+        let path = sampled_file_path(root, scenario, Split::Train);
+        if path.is_file() {
+            train.extend(load_question_file(&path, Some(scenario)).user()?.questions);
+        }
+    }
+    Ok(Priors::from_train(&train))
+}
+
+/// Content hash over the evaluated videos' annotation files.
+fn data_hash<'a>(videos: impl Iterator<Item = &'a VideoFolder>) -> Result<String, AppError> {
+    let mut hasher = blake3::Hasher::new();
+    for video in videos {
+        let bytes = fs_err::read(video.outputs_json()).user()?;
+        hasher.update(video.id.0.as_bytes());
+        hasher.update(blake3::hash(&bytes).as_bytes());
+    }
+    Ok(hasher.finalize().to_hex().to_string())
+}
+
+/// The program of one unit: from the cache (offline), or from the builtin writer (recorded in
+/// the cache when one is given).
+fn obtain_program(
+    question: &Question,
+    option: Option<&ChoiceOption>,
+    unit: &str,
+    cache: Option<&ProgramCache>,
+    offline: bool,
+) -> Result<Result<Program, UnitError>, AppError> {
+    let key_material = json!({
+        "source": BUILTIN_SOURCE,
+        "writer": builtin::WRITER_VERSION,
+        "scenario": question.scenario,
+        "question": question.title,
+        "option": option.map(|o| o.text.as_str()),
+    });
+    let key = cache_key(&key_material);
+    if offline {
+        let Some(cache) = cache else {
+            return Ok(Err(program_error("cache_miss", "--offline needs --cache".to_string())));
+        };
+        return Ok(match cache.get(&key).context("reading the program cache").user()? {
+            Some(entry) => Ok(Program { source: entry.program, origin: ProgramOrigin::Cache }),
+            None => Err(program_error(
+                "cache_miss",
+                format!("no cached program for unit `{unit}` (key {key}); run once without --offline to record it"),
+            )),
+        });
+    }
+    let source = match builtin::write_program(question, option) {
+        Ok(source) => source,
+        Err(error) => return Ok(Err(program_error("unrecognised", error.to_string()))),
+    };
+    if let Some(cache) = cache {
+        cache
+            .put(CacheEntry {
+                key,
+                key_material,
+                program: source.clone(),
+                raw_completion: None,
+                source: BUILTIN_SOURCE.to_string(),
+                first_unit: unit.to_string(),
+            })
+            .context("recording the program in the cache")
+            .internal()?;
+    }
+    Ok(Ok(Program { source, origin: ProgramOrigin::Builtin }))
+}
+
+fn program_error(kind: &str, message: String) -> UnitError {
+    UnitError { stage: Stage::Program, kind: kind.to_string(), message }
+}
+
+pub(super) fn failed_prediction(
+    question: &Question,
+    option: Option<&ChoiceOption>,
+    unit: &str,
+    program: Option<&Program>,
+    error: UnitError,
+) -> Prediction {
+    Prediction {
+        unit: unit.to_string(),
+        question_id: question.id.0.clone(),
+        option: option.map(|o| o.letter),
+        scenario: question.scenario,
+        family: question.family.0.clone(),
+        video_id: question.video_id.0.clone(),
+        program_hash: program.map(Program::hash),
+        program_origin: program.map(|p| origin_name(p.origin).to_string()),
+        value: None,
+        answer: None,
+        correct: false,
+        error: Some(error),
+        work: crate::scene_api::WorkCounters::default(),
+        own_ms: 0,
+        api_ms: 0,
+        wall_ms: 0,
+    }
+}
+
+pub(super) fn origin_name(origin: ProgramOrigin) -> &'static str {
+    match origin {
+        ProgramOrigin::Builtin => "builtin",
+        ProgramOrigin::Cache => "cache",
+        ProgramOrigin::File => "file",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn civil_dates_are_right() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(20_779), (2026, 11, 22));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+    }
+
+    #[test]
+    fn default_run_dir_is_under_runs() {
+        assert!(default_run_dir().starts_with(Path::new("runs")));
+    }
+}

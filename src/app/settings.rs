@@ -1,0 +1,144 @@
+//! Typed settings of each command, built by `cli` from the command line.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::dataset::{Scenario, Split};
+use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+
+/// A command to run.
+#[derive(Debug)]
+pub enum Request {
+    /// `run`.
+    Run(RunSettings),
+    /// `exec`.
+    Exec(ExecSettings),
+    /// `questions`.
+    Questions(QuestionsSettings),
+    /// `score`.
+    Score(ScoreSettings),
+    /// `cache ls`.
+    CacheList(CacheSettings),
+    /// `bench sandbox`.
+    BenchSandbox(BenchSettings),
+}
+
+/// Which sampled split(s) a run evaluates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitSelection {
+    /// One split.
+    One(Split),
+    /// Train, val and test.
+    All,
+}
+
+/// Sandbox budgets per program.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Budgets {
+    /// The program's own time (interpreter time outside the scene API), seconds.
+    pub program_seconds: f64,
+    /// Time inside scene-API calls, seconds.
+    pub api_seconds: f64,
+    /// Address-space limit per worker process, MiB.
+    pub memory_mib: u64,
+}
+
+/// `run` settings.
+#[derive(Debug, Clone)]
+pub struct RunSettings {
+    /// Data root.
+    pub data: PathBuf,
+    /// Explicit question files.
+    pub questions: Vec<PathBuf>,
+    /// Scenarios to evaluate (empty: all present).
+    pub scenarios: Vec<Scenario>,
+    /// Split(s) when no question files are given.
+    pub split: SplitSelection,
+    /// Run directory.
+    pub out: Option<PathBuf>,
+    /// Continue an existing run.
+    pub resume: bool,
+    /// Program cache.
+    pub cache: Option<PathBuf>,
+    /// Replay from the cache only.
+    pub offline: bool,
+    /// Worker processes.
+    pub jobs: usize,
+    /// At most this many questions.
+    pub limit: Option<usize>,
+    /// Shard `(index, count)`.
+    pub shard: Option<(usize, usize)>,
+    /// No progress bar.
+    pub quiet: bool,
+    /// Perception backend.
+    pub perception: PerceptionBackend,
+    /// Dynamics backend.
+    pub dynamics: DynamicsBackend,
+    /// Sandbox budgets.
+    pub budgets: Budgets,
+}
+
+/// `exec` settings.
+#[derive(Debug, Clone)]
+pub struct ExecSettings {
+    /// The video folder.
+    pub video: PathBuf,
+    /// The program file.
+    pub program: PathBuf,
+    /// The scenario, if given.
+    pub scenario: Option<Scenario>,
+    /// A question to score the value against.
+    pub question_id: Option<String>,
+    /// The file holding that question.
+    pub questions: Option<PathBuf>,
+    /// The option letter.
+    pub option: Option<char>,
+    /// Perception backend.
+    pub perception: PerceptionBackend,
+    /// Dynamics backend.
+    pub dynamics: DynamicsBackend,
+    /// Sandbox budgets.
+    pub budgets: Budgets,
+}
+
+/// `questions` settings.
+#[derive(Debug, Clone)]
+pub struct QuestionsSettings {
+    /// Data root.
+    pub data: PathBuf,
+    /// Output folder.
+    pub out: PathBuf,
+    /// Engine and sampler seed.
+    pub seed: u64,
+    /// Property questions per video.
+    pub fact_per_video: usize,
+    /// Dynamics questions per video.
+    pub dynamics_per_video: usize,
+}
+
+/// `score` settings.
+#[derive(Debug, Clone)]
+pub struct ScoreSettings {
+    /// Run directories.
+    pub runs: Vec<PathBuf>,
+}
+
+/// `cache ls` settings.
+#[derive(Debug, Clone)]
+pub struct CacheSettings {
+    /// The cache folder.
+    pub cache: PathBuf,
+}
+
+/// `bench sandbox` settings.
+#[derive(Debug, Clone)]
+pub struct BenchSettings {
+    /// Units through the pool.
+    pub units: usize,
+    /// Worker processes.
+    pub jobs: usize,
+    /// The rope video.
+    pub video: PathBuf,
+}

@@ -1,0 +1,307 @@
+//! Command-line arguments. Doc comments are the `--help` text.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::app::{
+    BenchSettings, Budgets, CacheSettings, ExecSettings, QuestionsSettings, Request, RunSettings,
+    ScoreSettings, SplitSelection,
+};
+use crate::dataset::Scenario;
+use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+
+/// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
+/// runs in a sandbox against the scene API, and answers are scored per option and per question.
+///
+/// With no subcommand, `contphy-eval --data DIR …` runs the evaluation (`run`).
+#[derive(Debug, Parser)]
+#[command(name = "contphy-eval", version, args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Evaluate questions on videos and write a run directory (the default command).
+    Run(RunArgs),
+    /// Run one program on one video and print one JSON object.
+    Exec(ExecArgs),
+    /// Generate questions from rope annotations (the public engine, re-implemented).
+    Questions(QuestionsArgs),
+    /// Re-score saved runs and print one leaderboard table.
+    Score(ScoreArgs),
+    /// Inspect the program cache.
+    #[command(subcommand)]
+    Cache(CacheCommand),
+    /// Benchmarks, printed as JSON.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+/// Backend and budget flags shared by `run` and `exec`.
+#[derive(Debug, Args, Clone)]
+struct EngineArgs {
+    /// Where objects and properties come from.
+    #[arg(long, value_enum, default_value_t = PerceptionArg::Annotation)]
+    perception: PerceptionArg,
+    /// Where dynamics answers come from.
+    #[arg(long, value_enum, default_value_t = DynamicsArg::Annotation)]
+    dynamics: DynamicsArg,
+    /// A program's own time budget, seconds (time inside scene-API calls is budgeted apart).
+    #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
+    program_timeout: f64,
+    /// Time budget for scene-API calls (simulation, perception) per program, seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 300.0)]
+    api_timeout: f64,
+    /// Address-space limit of each sandbox worker process, MiB.
+    #[arg(long, value_name = "MIB", default_value_t = 2048)]
+    memory_limit: u64,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum PerceptionArg {
+    /// Objects, masks and tracks from the annotations (the paper's oracle perception).
+    Annotation,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum DynamicsArg {
+    /// Counterfactual and factual outcomes from the annotations (the paper's offline mode).
+    Annotation,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum SplitArg {
+    Train,
+    Val,
+    Test,
+    All,
+}
+
+/// `run` arguments.
+#[derive(Debug, Args, Clone)]
+pub struct RunArgs {
+    /// Data root: holds `pulley_group/<video_id>/` (and fluid_slides, cloth_collision, soft_body)
+    /// and the question files `<scenario folder>_<split>.json`.
+    #[arg(long, value_name = "DIR", required = true)]
+    data: Option<PathBuf>,
+    /// Question files to evaluate (either engine form); default: the sampled files of the split.
+    #[arg(long = "questions", value_name = "FILE")]
+    questions: Vec<PathBuf>,
+    /// Scenarios to evaluate (default: every scenario folder in the data root).
+    #[arg(long = "scenario", value_name = "SCENARIO")]
+    scenarios: Vec<Scenario>,
+    /// Which sampled split to evaluate when no --questions is given.
+    #[arg(long, value_enum, default_value_t = SplitArg::Test)]
+    split: SplitArg,
+    /// The run directory (default: runs/<date>-<time>).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Continue the run in --out: finished units are kept, the rest are run.
+    #[arg(long)]
+    resume: bool,
+    /// Program cache: every program used is recorded there.
+    #[arg(long, value_name = "DIR")]
+    cache: Option<PathBuf>,
+    /// Replay programs from --cache only; a unit whose program is not cached fails.
+    #[arg(long, requires = "cache")]
+    offline: bool,
+    /// Sandbox worker processes.
+    #[arg(long, value_name = "N", default_value_t = default_jobs())]
+    jobs: usize,
+    /// Evaluate at most N questions (after sharding).
+    #[arg(long, value_name = "N")]
+    limit: Option<usize>,
+    /// Evaluate shard I of N (questions whose index modulo N is I), e.g. 0/4.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Hide the progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+    #[command(flatten)]
+    engine: EngineArgs,
+}
+
+fn default_jobs() -> usize {
+    std::thread::available_parallelism().map_or(2, std::num::NonZero::get)
+}
+
+fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    let (index, count) = text.split_once('/').ok_or("expected I/N, e.g. 0/4")?;
+    let index: usize = index.trim().parse().map_err(|_| format!("`{index}` is not a number"))?;
+    let count: usize = count.trim().parse().map_err(|_| format!("`{count}` is not a number"))?;
+    if count == 0 || index >= count {
+        return Err(format!("shard {index}/{count}: I must be smaller than N and N at least 1"));
+    }
+    Ok((index, count))
+}
+
+/// `exec` arguments.
+#[derive(Debug, Args)]
+pub struct ExecArgs {
+    /// The video folder (e.g. DATA/pulley_group/0).
+    #[arg(long, value_name = "DIR")]
+    video: PathBuf,
+    /// The Python program.
+    #[arg(long, value_name = "FILE")]
+    program: PathBuf,
+    /// The scenario (default: from the video's parent folder name).
+    #[arg(long, value_name = "SCENARIO")]
+    scenario: Option<Scenario>,
+    /// Score the value against this question (needs --questions).
+    #[arg(long, value_name = "ID", requires = "questions")]
+    question_id: Option<String>,
+    /// The question file holding --question-id.
+    #[arg(long, value_name = "FILE")]
+    questions: Option<PathBuf>,
+    /// The option letter, for a choice question.
+    #[arg(long, value_name = "LETTER", requires = "question_id")]
+    option: Option<char>,
+    #[command(flatten)]
+    engine: EngineArgs,
+}
+
+/// `questions` arguments.
+#[derive(Debug, Args)]
+pub struct QuestionsArgs {
+    /// Data root holding `pulley_group/<video_id>/`.
+    #[arg(long, value_name = "DIR")]
+    data: PathBuf,
+    /// Where to write `pulley_group/<video_id>.json` and `pulley_group_{train,val,test}.json`
+    /// (default: the data root).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Seed of the question engine and sampler.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Property questions sampled per video.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    fact_per_video: usize,
+    /// Dynamics questions sampled per video.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    dynamics_per_video: usize,
+}
+
+/// `score` arguments.
+#[derive(Debug, Args)]
+pub struct ScoreArgs {
+    /// Run directories to score.
+    #[arg(value_name = "RUN", required = true)]
+    runs: Vec<PathBuf>,
+}
+
+/// `cache` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum CacheCommand {
+    /// List cached programs.
+    Ls {
+        /// The cache folder.
+        #[arg(long, value_name = "DIR")]
+        cache: PathBuf,
+    },
+}
+
+/// `bench` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Sandbox cost: interpreter start-up, per-program time, programs/s through the worker pool,
+    /// next to CPython running the same programs.
+    Sandbox {
+        /// Units pushed through the pool.
+        #[arg(long, value_name = "N", default_value_t = 2000)]
+        units: usize,
+        /// Worker processes.
+        #[arg(long, value_name = "N", default_value_t = default_jobs())]
+        jobs: usize,
+        /// The rope video whose programs are timed.
+        #[arg(long, value_name = "DIR", default_value = "eval/demo/pulley_group/0")]
+        video: PathBuf,
+    },
+}
+
+impl EngineArgs {
+    fn budgets(&self) -> Budgets {
+        Budgets {
+            program_seconds: self.program_timeout,
+            api_seconds: self.api_timeout,
+            memory_mib: self.memory_limit,
+        }
+    }
+
+    fn perception(&self) -> PerceptionBackend {
+        match self.perception {
+            PerceptionArg::Annotation => PerceptionBackend::Annotation,
+        }
+    }
+
+    fn dynamics(&self) -> DynamicsBackend {
+        match self.dynamics {
+            DynamicsArg::Annotation => DynamicsBackend::Annotation,
+        }
+    }
+}
+
+impl RunArgs {
+    fn into_settings(self) -> RunSettings {
+        RunSettings {
+            data: self.data.unwrap_or_default(),
+            questions: self.questions,
+            scenarios: self.scenarios,
+            split: match self.split {
+                SplitArg::Train => SplitSelection::One(crate::dataset::Split::Train),
+                SplitArg::Val => SplitSelection::One(crate::dataset::Split::Val),
+                SplitArg::Test => SplitSelection::One(crate::dataset::Split::Test),
+                SplitArg::All => SplitSelection::All,
+            },
+            out: self.out,
+            resume: self.resume,
+            cache: self.cache,
+            offline: self.offline,
+            jobs: self.jobs.max(1),
+            limit: self.limit,
+            shard: self.shard,
+            quiet: self.quiet,
+            perception: self.engine.perception(),
+            dynamics: self.engine.dynamics(),
+            budgets: self.engine.budgets(),
+        }
+    }
+}
+
+impl Cli {
+    /// The request this command line asks for.
+    pub fn into_request(self) -> Request {
+        match self.command {
+            None => Request::Run(self.run.into_settings()),
+            Some(Command::Run(args)) => Request::Run(args.into_settings()),
+            Some(Command::Exec(args)) => Request::Exec(ExecSettings {
+                perception: args.engine.perception(),
+                dynamics: args.engine.dynamics(),
+                budgets: args.engine.budgets(),
+                video: args.video,
+                program: args.program,
+                scenario: args.scenario,
+                question_id: args.question_id,
+                questions: args.questions,
+                option: args.option,
+            }),
+            Some(Command::Questions(args)) => Request::Questions(QuestionsSettings {
+                out: args.out.unwrap_or_else(|| args.data.clone()),
+                data: args.data,
+                seed: args.seed,
+                fact_per_video: args.fact_per_video,
+                dynamics_per_video: args.dynamics_per_video,
+            }),
+            Some(Command::Score(args)) => Request::Score(ScoreSettings { runs: args.runs }),
+            Some(Command::Cache(CacheCommand::Ls { cache })) => Request::CacheList(CacheSettings { cache }),
+            Some(Command::Bench(BenchCommand::Sandbox { units, jobs, video })) => {
+                Request::BenchSandbox(BenchSettings { units, jobs: jobs.max(1), video })
+            }
+        }
+    }
+}

@@ -1,0 +1,4 @@
+//! Integration tests: the crate's modules working together, driven through the library and the
+//! `contphy-eval` binary.
+
+mod architecture;
