@@ -113,7 +113,7 @@ impl VideoFolder {
             return Err(DatasetError::MissingAnnotation { path: dir.to_path_buf() });
         }
         let id = VideoId(
-            dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| ".".into()),
+            dir.file_name().map_or_else(|| ".".into(), |n| n.to_string_lossy().into_owned()),
         );
         let parent = dir.parent().and_then(Path::file_name).map(|n| n.to_string_lossy().into_owned());
         let scenario = scenario
