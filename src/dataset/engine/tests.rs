@@ -10,7 +10,9 @@ use std::path::Path;
 use serde_json::{Value, json};
 
 use super::*;
-use crate::dataset::{AnswerType, Question, QuestionId, RopeChange, RopeObjectKind, Scenario};
+use crate::dataset::{
+    AnswerType, Category, Family, Question, QuestionId, RopeChange, RopeObjectKind, Scenario, Split,
+};
 
 const SEEDS: std::ops::Range<u64> = 0..300;
 
@@ -1238,4 +1240,64 @@ fn objects_missing_from_the_lists_are_skipped_not_fatal() {
             .iter()
             .all(|o| o.kind != RopeObjectKind::Pulley || o.color != "cyan")
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sampler on engine output.
+
+#[test]
+fn sampler_splits_engine_output_by_video_with_valid_records() {
+    let annotation = annotation(&real_json());
+    // (N, videos in train, val, test); N = 90 is where the public float boundary is off by one.
+    let cases = [(1, 0, 0, 1), (2, 1, 0, 1), (10, 5, 2, 3), (90, 45, 18, 27)];
+    for (video_count, train, val, test) in cases {
+        let per_video: Vec<PerVideoQuestions> = (0..video_count)
+            .map(|id| generate_rope_questions(&VideoId(id.to_string()), &annotation, 42).unwrap())
+            .collect();
+        let splits = sample_and_split(&per_video, &SamplerConfig::default(), 42);
+        let videos = |split: Split| -> BTreeSet<u32> {
+            splits
+                .get(split)
+                .iter()
+                .map(|r| r.video_id.as_ref().unwrap().parse().unwrap())
+                .collect()
+        };
+        assert_eq!(
+            [
+                videos(Split::Train).len(),
+                videos(Split::Val).len(),
+                videos(Split::Test).len()
+            ],
+            [train, val, test]
+        );
+        // Contiguous numeric ranges: train ids, then val ids, then test ids make up 0..N.
+        let in_order: Vec<u32> = Split::ALL.into_iter().flat_map(videos).collect();
+        assert_eq!(
+            in_order,
+            (0..u32::try_from(video_count).unwrap()).collect::<Vec<_>>()
+        );
+        let all: Vec<&QuestionRecord> = splits.all().collect();
+        assert_eq!(all.len(), 4 * video_count);
+        for (position, record) in all.iter().enumerate() {
+            assert_eq!(
+                record.question_id.as_deref(),
+                Some(format!("{position:05}").as_str())
+            );
+            let video_id = VideoId(record.video_id.clone().unwrap());
+            let question_id = QuestionId(record.question_id.clone().unwrap());
+            let question =
+                Question::from_record(question_id, video_id, Scenario::Rope, (*record).clone())
+                    .unwrap();
+            assert_eq!(question.split.map(Split::as_str), record.split.as_deref());
+        }
+        // Per video: two property questions, then two dynamics questions.
+        for chunk in all.chunks(4) {
+            let categories: Vec<Category> = chunk
+                .iter()
+                .map(|r| Family(r.qtype.clone().unwrap()).category())
+                .collect();
+            assert_eq!(categories[..2], [Category::Property, Category::Property]);
+            assert!(categories[2..].iter().all(|c| *c != Category::Property));
+        }
+    }
 }
