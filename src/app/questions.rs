@@ -72,7 +72,7 @@ pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppErr
     }
     let _ = writeln!(stdout, "\n| split | file | sampled questions |\n|---|---|---:|");
     for split in Split::ALL {
-        let records = splits.split(split);
+        let records = splits.get(split);
         let name = questions_file_name(Scenario::Rope, split);
         write_sampled_file(&settings.out.join(&name), records).internal()?;
         let _ = writeln!(stdout, "| {} | {name} | {} |", split.as_str(), records.len());

@@ -61,8 +61,7 @@ impl<'a> Node<'a> {
     /// The dotted path of this node (empty at the root).
     pub(crate) fn field_path(&self) -> String {
         self.path
-            .map(FieldPath::render)
-            .unwrap_or_else(|| "<root>".to_string())
+            .map_or_else(|| "<root>".to_string(), FieldPath::render)
     }
 
     /// An error about this node.

@@ -50,14 +50,14 @@ impl FourDData {
             let tracks = soft.field("softbodyTrackedParticles", |tracked| {
                 tracked.entries(|name, frames| {
                     let particles = frames.items(|frame| frame.items(point))?;
-                    if let Some(first) = particles.first() {
-                        if let Some(bad) = particles.iter().position(|f| f.len() != first.len()) {
-                            return Err(frames.error(format!(
-                                "frame {bad} has {} particles, frame 0 has {}",
-                                particles[bad].len(),
-                                first.len()
-                            )));
-                        }
+                    if let Some(first) = particles.first()
+                        && let Some(bad) = particles.iter().position(|f| f.len() != first.len())
+                    {
+                        return Err(frames.error(format!(
+                            "frame {bad} has {} particles, frame 0 has {}",
+                            particles[bad].len(),
+                            first.len()
+                        )));
                     }
                     Ok((name.to_string(), SoftBodyTrack { particles }))
                 })
@@ -78,6 +78,10 @@ impl FourDData {
     }
 }
 
+#[expect(
+    clippy::type_complexity,
+    reason = "one local map of per-frame (position, Euler angles) pairs"
+)]
 fn parse_rigid_bodies(node: Node<'_>) -> Result<IndexMap<String, RigidBodyTrack>, DatasetError> {
     let staticity: IndexMap<String, bool> = node
         .field("rigidbodyStatesStaticity", |n| {

@@ -258,7 +258,7 @@ mod tests {
                 r#"[{"question": "Q?", "answer": "no", "question_family": "mass", "answer_type": "open_ended"}]"#,
                 "field `0.question_id` is missing",
             ),
-            ("questions.json", r#"[]"#, "cannot tell the scenario"),
+            ("questions.json", "[]", "cannot tell the scenario"),
             (
                 "pulley_group_x.json",
                 r#"[{"question": "Q?", "answer": "no", "question_family": "mass", "answer_type": "open_ended", "video_id": "0", "question_id": "1"},

@@ -326,7 +326,7 @@ impl RopeAnnotation {
         let output_mass_kg = root.field("outputMass", mass_map)?;
         let camera = root.optional_field("outputCamera", parse_camera)?.flatten();
         let counterfactuals = root.field("CounterFactualAnnotations", |n| {
-            n.entries(|key, record| parse_counterfactual_pair(key, record))
+            n.entries(parse_counterfactual_pair)
         })?;
         let (id_to_object_name, frame_count) = root
             .optional_field("imgAnnotationDescriptions", |n| {

@@ -134,8 +134,7 @@ impl VideoFolder {
         }
         let id = VideoId(
             dir.file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| ".".into()),
+                .map_or_else(|| ".".into(), |n| n.to_string_lossy().into_owned()),
         );
         let parent = dir
             .parent()
