@@ -2,7 +2,8 @@
 //! `outputMass`, and motion/rotation from the factual results (`simulate`) or the mass
 //! counterfactual runs (`increase`/`decrease` of a load's mass), as the paper's offline mode does.
 //!
-//! Units: mass in kg (nominal, see [`nominal_mass_kg`]); tension in N (the weight of the load the
+//! Units: mass in kg (the benchmark's nominal mass, `ceil(m·100)/100` of `outputMass`, so loads
+//! under a movable pulley read exactly double, see `dataset::engine::EngineObject`); tension in N (the weight of the load the
 //! rope carries, `m·g` with g = 9.81 m/s²), which is what the benchmark's tension questions compare.
 
 use std::path::Path;
@@ -12,105 +13,72 @@ use indexmap::IndexMap;
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
 use super::scene::{EventAction, Property, ScenarioBackend, SceneEvent, Target};
-use crate::dataset::{
-    RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name,
-};
+use crate::dataset::engine::RopeScene;
+use crate::dataset::{RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name};
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
 
-/// The benchmark's mass of a load: `outputMass` rounded up to 0.01 kg (`ceil(m·100)/100`, as the
-/// public engine does). Loads under a movable pulley carry the generator's ×1.975 factor, which
-/// this rounds to the doubled nominal mass (0.395 → 0.4), so "twice" comparisons are exact.
-pub(crate) fn nominal_mass_kg(mass_kg: f64) -> f64 {
-    (mass_kg * 100.0).ceil() / 100.0
-}
-
 pub(crate) struct RopeBackend {
     annotation: RopeAnnotation,
+    /// The question engine's view of the video: object order, nominal masses, related loads and
+    /// the load → rope map, shared so answers and questions agree by construction.
+    structure: RopeScene,
     objects: Vec<SceneObjectInfo>,
-    /// Related group (index into `relatedGroupsInRope`) per object.
-    group: Vec<Option<usize>>,
-    /// Nominal mass per object (loads only), kg.
-    mass_kg: Vec<Option<f64>>,
+    /// Related group of each rope (index into `relatedGroupsInRope`).
+    rope_group: Vec<Option<usize>>,
     /// Tension per object (ropes only), N; `None` when the rope carries no load or loads of
     /// different masses (the video cannot tell one value).
     tension_n: Vec<Option<f64>>,
 }
 
 impl RopeBackend {
-    pub(crate) fn load(path: &Path) -> Result<RopeBackend, ApiError> {
-        Ok(RopeBackend::new(RopeAnnotation::load(path)?))
+    pub(crate) fn load(path: &Path, video_id: &str) -> Result<RopeBackend, ApiError> {
+        RopeBackend::new(RopeAnnotation::load(path)?, video_id)
     }
 
-    pub(crate) fn new(annotation: RopeAnnotation) -> RopeBackend {
-        // Object order: loads (outputMass order), then ropes, then pulleys and fixed points in
-        // group order — the public engine's object order.
-        let mut names: Vec<String> = annotation.output_mass_kg.keys().cloned().collect();
-        for group in &annotation.related_groups_in_rope {
-            for rope in group.keys() {
-                push_unique(&mut names, rope);
-            }
-        }
-        for group in &annotation.related_groups_in_rope {
-            for elements in group.values() {
-                for element in elements {
-                    if let Some(parsed) = parse_rope_object_name(element) {
-                        if matches!(
-                            parsed.kind,
-                            RopeObjectKind::Pulley | RopeObjectKind::FixedPoint
-                        ) {
-                            push_unique(&mut names, element);
-                        }
-                    }
-                }
-            }
-        }
-        let objects: Vec<SceneObjectInfo> = names
+    pub(crate) fn new(annotation: RopeAnnotation, video_id: &str) -> Result<RopeBackend, ApiError> {
+        let structure = RopeScene::from_annotation(video_id, &annotation)
+            .map_err(|error| ApiError::Data(error.to_string()))?;
+        let objects: Vec<SceneObjectInfo> = structure
+            .objects()
             .iter()
-            .filter_map(|name| parse_rope_object_name(name))
             .enumerate()
-            .map(|(index, parsed)| SceneObjectInfo {
-                id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
-                name: parsed.full.clone(),
-                color: parsed.color.clone(),
-                kind: parsed.kind.word().to_string(),
-                shape: parsed.pulley_shape.clone(),
-                dynamics: parsed.dynamics.clone(),
-                grid: parsed.grid,
+            .map(|(index, object)| {
+                let parsed = parse_rope_object_name(&object.annotation_name);
+                SceneObjectInfo {
+                    id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+                    name: object.annotation_name.clone(),
+                    color: object.color.clone(),
+                    kind: object.kind.word().to_string(),
+                    shape: parsed.as_ref().and_then(|p| p.pulley_shape.clone()),
+                    dynamics: object.dynamics.clone(),
+                    grid: parsed.and_then(|p| p.grid),
+                }
             })
             .collect();
-        let group_of_name = |name: &str| -> Option<usize> {
-            annotation.related_groups_in_rope.iter().position(|group| {
-                group.keys().any(|rope| rope == name) || group.values().flatten().any(|e| e == name)
-            })
-        };
-        let group: Vec<Option<usize>> = objects.iter().map(|o| group_of_name(&o.name)).collect();
-        let mass_kg: Vec<Option<f64>> = objects
+        let rope_group = objects
             .iter()
             .map(|o| {
-                annotation
-                    .output_mass_kg
-                    .get(&o.name)
-                    .map(|m| nominal_mass_kg(*m))
+                (o.kind == "rope")
+                    .then(|| {
+                        annotation
+                            .related_groups_in_rope
+                            .iter()
+                            .position(|g| g.contains_key(&o.name))
+                    })
+                    .flatten()
             })
             .collect();
-        let rope_loads = load_rope_map(&annotation);
-        let tension_n = objects
-            .iter()
-            .map(|o| {
-                if o.kind != "rope" {
+        let tension_n = (0..objects.len())
+            .map(|rope| {
+                if objects[rope].kind != "rope" {
                     return None;
                 }
-                let masses: Vec<f64> = rope_loads
-                    .iter()
-                    .filter(|(_, rope)| rope.eq_ignore_ascii_case(&o.name))
-                    .filter_map(|(load, _)| {
-                        annotation
-                            .output_mass_kg
-                            .get(load)
-                            .map(|m| nominal_mass_kg(*m))
-                    })
+                let masses: Vec<f64> = structure
+                    .loads()
+                    .filter(|load| structure.rope_of(*load) == Some(rope))
+                    .filter_map(|load| structure.object(load).and_then(|o| o.nominal_mass_kg))
                     .collect();
                 let first = *masses.first()?;
                 masses
@@ -119,13 +87,13 @@ impl RopeBackend {
                     .then_some(first * GRAVITY_M_PER_S2)
             })
             .collect();
-        RopeBackend {
+        Ok(RopeBackend {
             annotation,
+            structure,
             objects,
-            group,
-            mass_kg,
+            rope_group,
             tension_n,
-        }
+        })
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
@@ -135,6 +103,17 @@ impl RopeBackend {
                 id.0
             ))
         })
+    }
+
+    /// Whether the video can compare two objects: loads in the same related group, or ropes of
+    /// the same group.
+    fn comparable(&self, first: &SceneObjectInfo, second: &SceneObjectInfo) -> bool {
+        let (a, b) = (first.id.0 as usize, second.id.0 as usize);
+        if first.kind == "rope" {
+            self.rope_group[a].is_some() && self.rope_group[a] == self.rope_group[b]
+        } else {
+            a == b || self.structure.are_related(a, b)
+        }
     }
 
     /// The results (motion, rotation) of the dynamic scene started by `event`.
@@ -173,54 +152,11 @@ impl RopeBackend {
     }
 }
 
-fn push_unique(names: &mut Vec<String>, name: &str) {
-    if !names.iter().any(|n| n == name) {
-        names.push(name.to_string());
-    }
-}
-
 fn event_misuse() -> ApiError {
     misuse(
         "register_event: rope scenes support register_event([load], 'increase' or 'decrease', 'mass') \
          for a cube or sphere, and register_event([], 'simulate', '')",
     )
-}
-
-/// Load → rope map of the public engine (`contphy/FORMAT.md` §8.1 step 5): an end load takes its
-/// neighbouring rope; a load under a movable pulley takes its connection rope; otherwise the
-/// neighbouring element whose name contains `ope`. Python's negative-index wrap-around and
-/// out-of-range lookups of the original are bounds-checked here.
-pub(crate) fn load_rope_map(annotation: &RopeAnnotation) -> Vec<(String, String)> {
-    let mut map: Vec<(String, String)> = Vec::new();
-    let is_load = |name: &str| name.contains("ube") || name.contains("phere");
-    let is_movable = |name: Option<&String>| name.is_some_and(|n| n.contains("ynamic"));
-    for group in &annotation.related_groups {
-        for (index, element) in group.iter().enumerate() {
-            if !is_load(element) {
-                continue;
-            }
-            let previous = index.checked_sub(1).and_then(|i| group.get(i));
-            let next = group.get(index + 1);
-            let rope = if index == 0 {
-                next.filter(|n| n.to_lowercase().contains("rope"))
-            } else if index + 1 == group.len() {
-                previous.filter(|p| p.to_lowercase().contains("rope"))
-            } else if is_movable(group.get(index + 2)) {
-                next
-            } else if is_movable(index.checked_sub(2).and_then(|i| group.get(i))) {
-                previous
-            } else if previous.is_some_and(|p| p.contains("ope")) {
-                previous
-            } else {
-                next.filter(|n| n.contains("ope"))
-            };
-            if let Some(rope) = rope {
-                map.retain(|(load, _)| load != element);
-                map.push((element.clone(), rope.clone()));
-            }
-        }
-    }
-    map
 }
 
 impl ScenarioBackend for RopeBackend {
@@ -242,12 +178,16 @@ impl ScenarioBackend for RopeBackend {
             Property::Mass => infos
                 .iter()
                 .map(|o| {
-                    self.mass_kg[o.id.0 as usize].map(Some).ok_or_else(|| {
-                        misuse(format!(
-                            "{function}: mass is known for cubes and spheres, not for the {}",
-                            o.describe()
-                        ))
-                    })
+                    self.structure
+                        .object(o.id.0 as usize)
+                        .and_then(|e| e.nominal_mass_kg)
+                        .map(Some)
+                        .ok_or_else(|| {
+                            misuse(format!(
+                                "{function}: mass is known for cubes and spheres, not for the {}",
+                                o.describe()
+                            ))
+                        })
                 })
                 .collect::<Result<_, _>>()?,
             Property::Tension => infos
@@ -273,9 +213,7 @@ impl ScenarioBackend for RopeBackend {
         if let [first, second] = infos.as_slice() {
             // Objects in different mechanically coupled groups cannot be compared from the video
             // (the benchmark answers "can not answer").
-            let same_group = self.group[first.id.0 as usize].is_some()
-                && self.group[first.id.0 as usize] == self.group[second.id.0 as usize];
-            if !same_group || values.iter().any(Option::is_none) {
+            if !self.comparable(first, second) || values.iter().any(Option::is_none) {
                 return Ok(vec![None, None]);
             }
         }

@@ -391,6 +391,7 @@ fn load_backend(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> 
     match spec.scenario {
         Scenario::Rope => Ok(Box::new(RopeBackend::load(
             &spec.video_dir.join("outputs.json"),
+            &spec.video_id,
         )?)),
         other => Err(ApiError::Unavailable(format!(
             "the {other} scene API has no backend yet; only rope scenes can be answered in this version"
