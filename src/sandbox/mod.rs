@@ -1,1 +1,52 @@
-//! Placeholder for the `sandbox` module; filled in by issue 2 work in progress.
+//! The sandbox: runs untrusted, LLM-written Python programs against a host API, under limits.
+//!
+//! Input is a program (Python source), the host it runs against ([`HostSpec`]) and its
+//! [`Budgets`]; output is a [`SandboxValue`] or a typed [`Error`], plus own time, API time and
+//! the host's work counters. It owns everything between "program text" and "Python value":
+//! the locked-down RustPython interpreter, the host seam, the budgets, and the worker processes.
+//! It must not depend on the modules above it (`answer`, `score`, `report`, `app`, `cli`).
+//!
+//! Two layers (DESIGN.md §4):
+//! 1. **Inside the interpreter** ([`Sandbox`]): no stdlib, builtins reduced to an allow-list,
+//!    `import` limited to `math` and the host's modules, a static check of every name in the
+//!    compiled code, a watchdog that interrupts programs past their own-time budget (soft, then
+//!    hard), and bounded result conversion.
+//! 2. **Around it** ([`Pool`]): programs run in worker processes (this binary started with
+//!    [`WORKER_ARGUMENT`], entering [`worker_main`]) under `RLIMIT_AS` and `RLIMIT_CPU`, with a
+//!    parent-side wall-clock kill for operations the VM cannot interrupt. A worker that dies
+//!    fails only its unit and is replaced.
+//!
+//! Budget defaults are documented on [`Budgets`], [`ValueLimits`] and [`WorkerLimits`].
+//!
+//! ```text
+//! Pool::submit(Unit) ──JSON line──► worker: Sandbox::run(host, source) ──JSON lines──► Pool::recv()
+//!                                          ▲ api_enter / api_exit events pause the parent's clock
+//! ```
+
+mod bench;
+mod clock;
+mod error;
+mod host;
+mod interpreter;
+mod limits;
+mod lockdown;
+mod math;
+mod pool;
+mod protocol;
+mod rlimit;
+mod value;
+mod watchdog;
+mod worker;
+
+pub use bench::{BenchConfig, BenchReport, PoolThroughput, ProgramTiming, TimeSummary, run_bench};
+pub use clock::ApiClock;
+pub use error::Error;
+pub use host::{Host, HostConstructor, HostRegistry, HostSpec, InstallContext, StubHost};
+pub use interpreter::{RunReport, Sandbox};
+pub use limits::{Budgets, ValueLimits, WorkerLimits};
+pub use pool::{KILL_SLACK, Pool, PoolConfig, PoolStats, Unit, UnitResult, WorkerCommand};
+pub use value::{IntValue, SandboxValue};
+pub use worker::{WORKER_ARGUMENT, worker_main};
+
+#[cfg(test)]
+mod tests;
