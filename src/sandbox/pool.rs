@@ -393,11 +393,16 @@ fn run_unit(
         Ok(report) => (report, Some(pid)),
         Err(ending) => {
             shared.workers_lost.fetch_add(1, Ordering::SeqCst);
+            let (own, api) = (process.unit_own, process.unit_api);
             let error = match worker.take() {
                 Some(process) => process.classify_ending(ending, &unit.budgets),
                 None => Error::internal("the worker vanished"),
             };
-            (RunReport::failed(error), Some(pid))
+            // The worker's own measurement died with it; the parent's clock is the next best.
+            let mut report = RunReport::failed(error);
+            report.own_ms = own.as_secs_f64() * 1e3;
+            report.api_ms = api.as_secs_f64() * 1e3;
+            (report, Some(pid))
         }
     }
 }
@@ -437,6 +442,10 @@ struct WorkerProcess {
     idle: bool,
     /// [`WorkerProcess::stderr_mark`] when the current unit was sent.
     unit_stderr_mark: u64,
+    /// Own time of the current unit as the parent measures it.
+    unit_own: Duration,
+    /// API time of the current unit as the parent measures it.
+    unit_api: Duration,
 }
 
 impl WorkerProcess {
@@ -492,6 +501,8 @@ impl WorkerProcess {
             pid,
             idle: false,
             unit_stderr_mark: 0,
+            unit_own: Duration::ZERO,
+            unit_api: Duration::ZERO,
         };
         if let Err(error) = process.wait_ready(config.ready_timeout) {
             let detail = process.stderr_since(0);
@@ -546,6 +557,7 @@ impl WorkerProcess {
         })?;
         line.push('\n');
         self.unit_stderr_mark = self.stderr_mark();
+        (self.unit_own, self.unit_api) = (Duration::ZERO, Duration::ZERO);
         let sent = self.stdin.as_mut().map(|stdin| {
             stdin
                 .write_all(line.as_bytes())
@@ -567,6 +579,7 @@ impl WorkerProcess {
             let now = Instant::now();
             let api = api_total + api_since.map_or(Duration::ZERO, |since| now - since);
             let own = now.saturating_duration_since(started).saturating_sub(api);
+            (self.unit_own, self.unit_api) = (own, api);
             if own > own_limit {
                 return Err(Ending::Killed(Error::Timeout {
                     budget_ms: budgets.own_time_ms,
@@ -621,12 +634,17 @@ impl WorkerProcess {
         if let Some(error) = killed {
             return error;
         }
-        let last_line = stderr.lines().last().unwrap_or("").to_owned();
-        if stderr.contains("memory allocation of") || stderr.contains("out of memory") {
+        // Rust aborts when an allocation fails (RustPython 0.5 sizes some buffers with
+        // `Vec::with_capacity`, e.g. `[0] * 10 ** 9`), after printing this line.
+        if let Some(line) = stderr
+            .lines()
+            .find(|line| line.contains("memory allocation of"))
+        {
             return Error::Memory {
-                message: format!("the worker died allocating memory: {last_line}"),
+                message: format!("the worker died allocating memory: {line}"),
             };
         }
+        let last_line = stderr.lines().last().unwrap_or("").to_owned();
         match status.and_then(|status| status.signal()) {
             Some(libc::SIGXCPU) => Error::Cpu {
                 budget_ms: budgets.cpu_time_ms,
