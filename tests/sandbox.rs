@@ -325,7 +325,8 @@ fn units_of_one_key_run_in_order_on_one_worker_with_one_host() {
 
 #[test]
 fn unparsable_worker_output_fails_the_unit_without_a_panic() {
-    // A fake worker: says `ready`, then answers the request with garbage and exits.
+    // A fake worker: says `ready`, then answers the request with garbage (text, then bytes that
+    // are not UTF-8) and exits.
     let script = r#"echo '{"event":"ready","pid":1,"interpreter_build_ms":null}'; read request; echo 'this is not json'; printf '\377\376 binary\n'; echo 'fake worker gives up' >&2; exit 3"#;
     let mut config = PoolConfig::new(
         WorkerCommand {
@@ -339,13 +340,64 @@ fn unparsable_worker_output_fails_the_unit_without_a_panic() {
     pool.submit(unit(1, "v", HEALTHY, budgets())).unwrap();
     let result = pool.recv().unwrap();
     match &result.report.outcome {
+        Err(Error::Internal { message }) => {
+            assert!(message.contains("this is not json"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The next unit gets a fresh fake worker, which dies the same way.
+    let script = r#"echo '{"event":"ready","pid":1,"interpreter_build_ms":null}'; read request; printf '\377\376 binary'; echo 'fake worker gives up' >&2; exit 3"#;
+    let mut config = PoolConfig::new(
+        WorkerCommand {
+            program: "/bin/sh".into(),
+            arguments: vec!["-c".into(), script.into(), "fake-worker".into()],
+        },
+        1,
+    );
+    config.ready_timeout = Duration::from_secs(10);
+    let pool = Pool::start(config).unwrap();
+    pool.submit(unit(1, "v", HEALTHY, budgets())).unwrap();
+    let result = pool.recv().unwrap();
+    match &result.report.outcome {
+        Err(Error::Internal { message }) => {
+            assert!(message.contains("binary"), "{message}");
+        }
         Err(Error::Crashed { signal, detail, .. }) => {
+            // The unterminated binary line arrives only at exit, as the pipe closes.
             assert_eq!(*signal, None);
             assert!(detail.contains("exit status: 3"), "{detail}");
             assert!(detail.contains("fake worker gives up"), "{detail}");
         }
         other => panic!("{other:?}"),
     }
+}
+
+#[test]
+fn results_at_the_depth_ceiling_cross_the_process_boundary() {
+    // 48 levels of lists is the deepest result the protocol carries (two JSON levels each).
+    let source = "x = 1
+for i in range(47):
+    x = [x]
+answer = x";
+    let budgets = Budgets {
+        result: contphy_eval::sandbox::ValueLimits {
+            max_depth: 1_000,
+            ..contphy_eval::sandbox::ValueLimits::default()
+        },
+        ..budgets()
+    };
+    let pool = pool(1);
+    pool.submit(unit(1, "v", source, budgets.clone())).unwrap();
+    let mut value = pool.recv().unwrap().report.outcome.unwrap();
+    let mut depth = 0;
+    while let SandboxValue::List(mut items) = value {
+        depth += 1;
+        value = items.remove(0);
+    }
+    assert_eq!(depth, 47);
+    pool.submit(unit(2, "v", &source.replace("47", "60"), budgets))
+        .unwrap();
+    assert_eq!(kind(&pool.recv().unwrap()), "result_too_large");
 }
 
 #[test]
@@ -356,4 +408,18 @@ fn a_missing_worker_binary_is_a_setup_error() {
     ))
     .unwrap_err();
     assert_eq!(error.kind(), "internal");
+}
+
+/// Not a test: prints the sandbox measurements as JSON. Run it from a release build:
+/// `cargo test --release --test sandbox -- --ignored --nocapture measure_sandbox`.
+#[test]
+#[ignore = "measurement, not a test; run in release with --ignored --nocapture"]
+fn measure_sandbox() {
+    let config = contphy_eval::sandbox::BenchConfig {
+        worker: Some(worker()),
+        ..contphy_eval::sandbox::BenchConfig::default()
+    };
+    let report = contphy_eval::sandbox::run_bench(&config).unwrap();
+    println!("{}", serde_json::to_string_pretty(&report).unwrap());
+    assert!(report.pool.is_some_and(|pool| pool.failures == 0));
 }

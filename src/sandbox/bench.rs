@@ -27,6 +27,10 @@ const PROGRAMS: &[(&str, &str)] = &[
         "total = 0\nfor index in range(10000):\n    total += index * index\nanswer = total",
     ),
     (
+        "api_calls_1000",
+        "total = 0\nfor index in range(1000):\n    total += stub_api(index)\nanswer = total",
+    ),
+    (
         "classes_and_comprehensions",
         "import math\n\nclass Body:\n    def __init__(self, name, mass):\n        self.name = name\n        self.mass = mass\n    def __repr__(self):\n        return f'Body({self.name}, {self.mass})'\n\nbodies = [Body(f'cube{i}', math.sqrt(i + 1)) for i in range(100)]\nheavy = sorted((b for b in bodies if b.mass > 5), key=lambda b: -b.mass)\nanswer = {'heaviest': repr(heavy[0]), 'count': len(heavy)}\n",
     ),
@@ -47,6 +51,10 @@ pub struct BenchConfig {
     pub pool_units: usize,
     /// Distinct keys (videos) the pool units are spread over.
     pub pool_keys: usize,
+    /// One-worker pools started (and sent one trivial unit) to time a worker's start.
+    pub worker_starts: usize,
+    /// Units of 1 000 host API calls each, to time the API event lines through the pool.
+    pub api_heavy_units: usize,
 }
 
 impl Default for BenchConfig {
@@ -58,6 +66,8 @@ impl Default for BenchConfig {
             jobs: 2,
             pool_units: 2000,
             pool_keys: 20,
+            worker_starts: 5,
+            api_heavy_units: 20,
         }
     }
 }
@@ -142,6 +152,12 @@ pub struct PoolThroughput {
     pub failures: usize,
     /// Workers started and lost.
     pub stats: PoolStats,
+    /// Starting a one-worker pool until its first trivial unit is back (process start,
+    /// interpreter build, one unit).
+    pub worker_start: TimeSummary,
+    /// Per-unit wall time of units making 1 000 host API calls each (two event lines per call);
+    /// compare with `api_calls_1000` in-process.
+    pub api_heavy_unit_wall: TimeSummary,
 }
 
 /// Everything [`run_bench`] measured.
@@ -159,7 +175,7 @@ pub struct BenchReport {
 pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, Error> {
     let (interpreter_build, programs) = measure_in_process(config)?;
     let pool = match &config.worker {
-        Some(worker) => Some(measure_pool(config, worker.clone())?),
+        Some(worker) => Some(measure_pool(config, worker)?),
         None => None,
     };
     Ok(BenchReport {
@@ -216,12 +232,12 @@ fn measure_in_process(config: &BenchConfig) -> Result<(TimeSummary, Vec<ProgramT
         .map_err(|_| Error::internal("the bench thread panicked"))?
 }
 
-fn measure_pool(config: &BenchConfig, worker: WorkerCommand) -> Result<PoolThroughput, Error> {
+fn measure_pool(config: &BenchConfig, worker: &WorkerCommand) -> Result<PoolThroughput, Error> {
     let jobs = config.jobs.max(1);
     let units = config.pool_units;
     let keys = config.pool_keys.max(1);
     let started = Instant::now();
-    let pool = Pool::start(PoolConfig::new(worker, jobs))?;
+    let pool = Pool::start(PoolConfig::new(worker.clone(), jobs))?;
     // One unit per worker first, so the throughput below excludes process start-up.
     for warm_up_unit in 0..jobs {
         pool.submit(trivial_unit(
@@ -246,6 +262,40 @@ fn measure_pool(config: &BenchConfig, worker: WorkerCommand) -> Result<PoolThrou
         }
     }
     let total = started.elapsed();
+
+    let api_heavy_source = PROGRAMS
+        .iter()
+        .find(|(name, _)| *name == "api_calls_1000")
+        .map_or("answer = 0", |(_, source)| source);
+    for index in 0..config.api_heavy_units {
+        let mut unit = trivial_unit(index as u64, index, keys);
+        api_heavy_source.clone_into(&mut unit.source);
+        pool.submit(unit)?;
+    }
+    let mut api_heavy_walls = Vec::with_capacity(config.api_heavy_units);
+    for result in pool.results() {
+        api_heavy_walls.push(Duration::from_secs_f64(result.wall_ms / 1e3));
+        if result.report.outcome.is_err() {
+            failures += 1;
+        }
+    }
+    let stats = pool.stats();
+    drop(pool);
+
+    let mut start_times = Vec::with_capacity(config.worker_starts);
+    for index in 0..config.worker_starts {
+        let started = Instant::now();
+        let pool = Pool::start(PoolConfig::new(worker.clone(), 1))?;
+        pool.submit(trivial_unit(index as u64, index, keys))?;
+        if pool
+            .recv()
+            .is_none_or(|result| result.report.outcome.is_err())
+        {
+            failures += 1;
+        }
+        start_times.push(started.elapsed());
+    }
+
     Ok(PoolThroughput {
         jobs,
         units,
@@ -254,7 +304,9 @@ fn measure_pool(config: &BenchConfig, worker: WorkerCommand) -> Result<PoolThrou
         units_per_second: units as f64 / total.as_secs_f64().max(f64::MIN_POSITIVE),
         unit_wall: TimeSummary::of(&unit_walls),
         failures,
-        stats: pool.stats(),
+        stats,
+        worker_start: TimeSummary::of(&start_times),
+        api_heavy_unit_wall: TimeSummary::of(&api_heavy_walls),
     })
 }
 

@@ -10,7 +10,7 @@
 //! | API time (wall time inside host calls) | 120 s | checked when a call returns; the parent kills a worker stuck inside one call past budget + grace |
 //! | CPU time (whole worker process) | 180 s | `RLIMIT_CPU` soft limit = used + budget, per request (`SIGXCPU`) |
 //! | address space (per worker) | 2 GiB | `RLIMIT_AS`, set once at worker start: allocation bombs become `MemoryError` |
-//! | result size | depth 64, 100 000 nodes, 1 MiB of text | conversion to [`crate::sandbox::SandboxValue`] |
+//! | result size | depth 32 (48 at most), 100 000 nodes, 1 MiB of text | conversion to [`crate::sandbox::SandboxValue`] |
 
 use serde::{Deserialize, Serialize};
 
@@ -51,7 +51,9 @@ impl Default for Budgets {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ValueLimits {
-    /// Deepest nesting of lists, tuples and dicts (default 64; answers are flat in practice).
+    /// Deepest nesting of lists, tuples and dicts (default 32; answers are flat in practice).
+    /// Values above 48 act as 48: each level is two levels of JSON on the worker protocol, whose
+    /// parser stops at 128.
     pub max_depth: usize,
     /// Total number of values in the result, containers included (default 100 000).
     pub max_nodes: usize,
@@ -66,7 +68,7 @@ pub struct ValueLimits {
 impl Default for ValueLimits {
     fn default() -> Self {
         Self {
-            max_depth: 64,
+            max_depth: 32,
             max_nodes: 100_000,
             max_text_bytes: 1 << 20,
             max_repr_chars: 200,

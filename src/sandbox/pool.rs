@@ -410,8 +410,8 @@ fn run_unit(
 /// A line read from a worker's stdout.
 enum Line {
     Message(WorkerMessage),
-    /// Not a protocol message (should not happen; kept so the reader never stops on it).
-    Unparsable,
+    /// Not a protocol message (a worker bug): the start of the line, for the error report.
+    Unparsable(String),
 }
 
 /// How a unit ended without a report.
@@ -616,7 +616,14 @@ impl WorkerProcess {
                     }
                     _ => {}
                 },
-                Ok(Line::Unparsable) | Err(RecvTimeoutError::Timeout) => {}
+                Ok(Line::Unparsable(line)) => {
+                    // The protocol is out of step: nothing later from this worker can be
+                    // trusted to belong to this unit.
+                    return Err(Ending::Killed(Error::internal(format!(
+                        "the worker wrote a line that is not a protocol message: {line:?}"
+                    ))));
+                }
+                Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => return Err(Ending::Died),
             }
         }
@@ -740,9 +747,11 @@ fn read_messages(stdout: impl Read, lines: &Sender<Line>) {
             Ok(0) | Err(_) => return,
             Ok(_) => {}
         }
-        let line = match serde_json::from_slice::<WorkerMessage>(&buffer) {
-            Ok(message) => Line::Message(message),
-            Err(_) => Line::Unparsable,
+        let line = if let Ok(message) = serde_json::from_slice::<WorkerMessage>(&buffer) {
+            Line::Message(message)
+        } else {
+            let text = String::from_utf8_lossy(&buffer);
+            Line::Unparsable(text.trim_end().chars().take(200).collect())
         };
         if lines.send(line).is_err() {
             return;

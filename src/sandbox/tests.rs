@@ -593,3 +593,12 @@ fn oversized_results_are_result_too_large() {
         );
     }
 }
+
+#[test]
+fn hashing_and_set_order_are_the_same_in_every_interpreter() {
+    let source =
+        "answer = [hash('rope'), hash(('a', 1)), list({'pulley', 'rope', 'cube', 'load'})]";
+    let first = run(source).unwrap();
+    let second = run(source).unwrap();
+    assert_eq!(first, second, "the hash seed is fixed");
+}
