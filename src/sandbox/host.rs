@@ -210,7 +210,17 @@ impl HostRegistry {
                         .join(", ")
                 ))
             })?;
-            let host = constructor(&spec.config).map_err(|message| {
+            // A panicking constructor is a host bug; it fails this unit, not the worker.
+            let built = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                constructor(&spec.config)
+            }))
+            .unwrap_or_else(|payload| {
+                Err(format!(
+                    "the constructor panicked: {}",
+                    super::clock::panic_message(payload.as_ref())
+                ))
+            });
+            let host = built.map_err(|message| {
                 Error::internal(format!("cannot build host `{}`: {message}", spec.name))
             })?;
             if self.memo.len() >= self.memo_capacity {
@@ -435,5 +445,17 @@ mod tests {
             .map(|_| ())
             .unwrap_err();
         assert_eq!(bad.kind(), "internal");
+        registry.register("panicking", |_config| panic!("constructor bug"));
+        let panicked = registry
+            .host(&HostSpec {
+                name: "panicking".into(),
+                config: serde_json::Value::Null,
+            })
+            .map(|_| ())
+            .unwrap_err();
+        assert!(
+            panicked.to_string().contains("constructor bug"),
+            "{panicked}"
+        );
     }
 }

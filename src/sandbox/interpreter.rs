@@ -36,7 +36,9 @@ use super::clock::{ApiClock, ApiListener, HardInterrupt, StopReason, panic_messa
 use super::error::Error;
 use super::host::{Host, InstallContext};
 use super::limits::Budgets;
-use super::lockdown::{ProgramEnvironment, compile_checked, exception_is_a, lock_builtins};
+use super::lockdown::{
+    ProgramEnvironment, compile_checked, exception_is_a, future_module_dict, lock_builtins,
+};
 use super::math::math_module_dict;
 use super::value::{SandboxValue, to_sandbox_value};
 use super::watchdog::{Interrupter, Watchdog};
@@ -102,7 +104,9 @@ struct LockedInterpreter {
     interpreter: Interpreter,
     signal_sender: UserSignalSender,
     environment: Rc<RefCell<ProgramEnvironment>>,
-    math_attributes: PyDictRef,
+    /// Attributes of the modules every program may import (`math`, `__future__`), copied into
+    /// fresh module objects for each program.
+    base_modules: Vec<(&'static str, PyDictRef)>,
     /// Host objects built once per interpreter ([`InstallContext::cached`]).
     cache: HashMap<String, PyObjectRef>,
     /// The last program's globals and result, dropped after its report is out (dropping a
@@ -125,10 +129,13 @@ impl LockedInterpreter {
             })
             .build();
         let environment = Rc::new(RefCell::new(ProgramEnvironment::default()));
-        let math_attributes = interpreter
-            .enter(|vm| -> PyResult<PyDictRef> {
+        let base_modules = interpreter
+            .enter(|vm| -> PyResult<Vec<(&'static str, PyDictRef)>> {
                 lock_builtins(vm, &environment)?;
-                math_module_dict(vm)
+                Ok(vec![
+                    ("math", math_module_dict(vm)?),
+                    ("__future__", future_module_dict(vm)?),
+                ])
             })
             .map_err(|exception| {
                 Error::internal(format!(
@@ -140,7 +147,7 @@ impl LockedInterpreter {
             interpreter,
             signal_sender,
             environment,
-            math_attributes,
+            base_modules,
             cache: HashMap::new(),
             garbage: Vec::new(),
         })
@@ -184,7 +191,7 @@ impl Sandbox {
     /// Builds the interpreter now instead of on the first run; returns how long it took.
     pub fn warm_up(&mut self) -> Result<Duration, Error> {
         let started = Instant::now();
-        self.interpreter()?;
+        ensure_interpreter(&mut self.interpreter, &mut self.interpreters_built)?;
         Ok(started.elapsed())
     }
 
@@ -211,11 +218,9 @@ impl Sandbox {
             Ok(code) => code,
             Err(error) => return RunReport::failed(error),
         };
-        if let Err(error) = self.interpreter() {
-            return RunReport::failed(error);
-        }
-        let Some(locked) = self.interpreter.as_mut() else {
-            return RunReport::failed(Error::internal("the interpreter vanished after building"));
+        let locked = match ensure_interpreter(&mut self.interpreter, &mut self.interpreters_built) {
+            Ok(locked) => locked,
+            Err(error) => return RunReport::failed(error),
         };
 
         let run_id = self.current_run.fetch_add(1, Ordering::SeqCst) + 1;
@@ -241,7 +246,7 @@ impl Sandbox {
             let LockedInterpreter {
                 interpreter,
                 environment,
-                math_attributes,
+                base_modules,
                 cache,
                 ..
             } = &mut *locked;
@@ -249,7 +254,7 @@ impl Sandbox {
                 let program = Program {
                     vm,
                     environment,
-                    math_attributes,
+                    base_modules,
                     clock,
                     budgets,
                 };
@@ -294,11 +299,18 @@ impl Sandbox {
             ))),
             (None, None) => outcome,
         };
+        let work_counters = catch_unwind(AssertUnwindSafe(|| host.take_work_counters()))
+            .unwrap_or_else(|payload| {
+                serde_json::json!({ "error": format!(
+                    "take_work_counters panicked: {}",
+                    panic_message(payload.as_ref())
+                ) })
+            });
         RunReport {
             outcome,
             own_ms: times.own.as_secs_f64() * 1e3,
             api_ms: times.api.as_secs_f64() * 1e3,
-            work_counters: host.take_work_counters(),
+            work_counters,
             printed,
         }
     }
@@ -320,16 +332,6 @@ impl Sandbox {
         }
     }
 
-    fn interpreter(&mut self) -> Result<&mut LockedInterpreter, Error> {
-        if self.interpreter.is_none() {
-            self.interpreter = Some(LockedInterpreter::build()?);
-            self.interpreters_built += 1;
-        }
-        self.interpreter
-            .as_mut()
-            .ok_or_else(|| Error::internal("the interpreter vanished after building"))
-    }
-
     /// Throws the interpreter away after a panic unwound through it. Its destructors may trip
     /// over the state the panic left behind; if they panic too, the rest is leaked.
     fn discard_interpreter(&mut self) {
@@ -337,6 +339,19 @@ impl Sandbox {
             let _ = catch_unwind(AssertUnwindSafe(move || drop(locked)));
         }
     }
+}
+
+/// The interpreter in `slot`, built first if there is none (counted in `built`).
+fn ensure_interpreter<'a>(
+    slot: &'a mut Option<LockedInterpreter>,
+    built: &mut u64,
+) -> Result<&'a mut LockedInterpreter, Error> {
+    if let Some(locked) = slot.take() {
+        return Ok(slot.insert(locked));
+    }
+    let locked = LockedInterpreter::build()?;
+    *built += 1;
+    Ok(slot.insert(locked))
 }
 
 impl RunReport {
@@ -356,7 +371,7 @@ impl RunReport {
 struct Program<'a> {
     vm: &'a VirtualMachine,
     environment: &'a Rc<RefCell<ProgramEnvironment>>,
-    math_attributes: &'a PyDictRef,
+    base_modules: &'a [(&'static str, PyDictRef)],
     clock: &'a ApiClock,
     budgets: &'a Budgets,
 }
@@ -391,8 +406,10 @@ impl Program<'_> {
         let mut modules = BTreeMap::new();
         let prepared = (|| -> PyResult<()> {
             globals.set_item("__name__", vm.ctx.new_str("__main__").into(), vm)?;
-            let math = vm.new_module("math", self.math_attributes.copy().into_ref(&vm.ctx), None);
-            modules.insert("math".to_owned(), math.into());
+            for (name, attributes) in self.base_modules {
+                let module = vm.new_module(name, attributes.copy().into_ref(&vm.ctx), None);
+                modules.insert((*name).to_owned(), module.into());
+            }
             let mut context = InstallContext {
                 vm,
                 globals,
@@ -423,6 +440,8 @@ impl Program<'_> {
         garbage: &mut Vec<PyObjectRef>,
     ) -> Result<SandboxValue, Error> {
         let vm = self.vm;
+        // RustPython 0.5 has no `PyCode::new_ref_from_bytecode`; `new_code` panics only on
+        // frozenset constants, which `check_code` has already refused.
         let code = vm.ctx.new_code(code);
         let scope = Scope::with_builtins(None, globals.clone(), vm);
         let value = vm

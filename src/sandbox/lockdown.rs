@@ -18,7 +18,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::rc::Rc;
 
-use rustpython_vm::builtins::{PyBaseExceptionRef, PyStr, PyType};
+use rustpython_vm::builtins::{PyBaseExceptionRef, PyDictRef, PyStr, PyType};
 use rustpython_vm::bytecode::{CodeObject, ConstantData};
 use rustpython_vm::compiler::{CompileError, CompileOpts, Mode};
 use rustpython_vm::function::FuncArgs;
@@ -33,8 +33,16 @@ pub(crate) const PROGRAM_FILE_NAME: &str = "<program>";
 /// compiler itself emits for class bodies. None of them leads to a frame, a module or a type
 /// outside the program's own classes.
 const ALLOWED_DUNDERS: &[&str] = &[
-    // Emitted by the compiler for class bodies and `if __name__ == "__main__":` blocks.
+    // Emitted by the compiler for class bodies, annotations (Python 3.14's lazy
+    // `__annotate__`), generic classes, `from __future__ import ...`, and
+    // `if __name__ == "__main__":` blocks.
     "__name__",
+    "__annotate__",
+    "__annotate_func__",
+    "__annotations__",
+    "__conditional_annotations__",
+    "__type_params__",
+    "__future__",
     "__module__",
     "__qualname__",
     "__doc__",
@@ -134,6 +142,20 @@ const FORBIDDEN_NAMES: &[&str] = &[
 /// Names of cells the compiler creates for zero-argument `super()`; they hold the program's own
 /// class, which `type(self)` gives anyway.
 const ALLOWED_CELLS: &[&str] = &["__class__", "__classdict__"];
+
+/// Feature names of `__future__`. The compiler has already applied them by the time the program
+/// runs; the module only has to have the names for `from __future__ import annotations`.
+const FUTURE_FEATURES: &[&str] = &[
+    "annotations",
+    "absolute_import",
+    "division",
+    "generator_stop",
+    "generators",
+    "nested_scopes",
+    "print_function",
+    "unicode_literals",
+    "with_statement",
+];
 
 /// Builtins a program keeps (plus every exception class). Everything else (`open`, `exec`,
 /// `eval`, `compile`, `getattr`, `setattr`, `delattr`, `globals`, `locals`, `vars`, `input`,
@@ -260,13 +282,18 @@ fn collect_nested<'a>(
 ) -> Result<(), Error> {
     match constant {
         ConstantData::Code { code } => pending.push(code),
-        ConstantData::Tuple { elements } | ConstantData::Frozenset { elements } => {
+        ConstantData::Tuple { elements } => {
             for element in elements {
                 collect_nested(element, pending)?;
             }
         }
-        // Frozenset constants come only from `.pyc` files, never from this compiler; building
-        // one without a VM would panic inside RustPython, so refuse rather than risk it.
+        // Frozenset constants come only from `.pyc` files, never from this compiler; turning
+        // one into an object without a VM panics inside RustPython, so refuse rather than risk it.
+        ConstantData::Frozenset { .. } => {
+            return Err(Error::internal(
+                "the compiler produced a frozenset constant, which the sandbox cannot load",
+            ));
+        }
         ConstantData::Slice { .. }
         | ConstantData::Integer { .. }
         | ConstantData::Float { .. }
@@ -276,11 +303,6 @@ fn collect_nested<'a>(
         | ConstantData::Bytes { .. }
         | ConstantData::None
         | ConstantData::Ellipsis => {}
-    }
-    if matches!(constant, ConstantData::Frozenset { .. }) {
-        return Err(Error::internal(
-            "the compiler produced a frozenset constant, which the sandbox cannot load",
-        ));
     }
     Ok(())
 }
@@ -377,6 +399,15 @@ pub(crate) fn lock_builtins(
         }
     }
     Ok(())
+}
+
+/// Attributes of the `__future__` module: each feature name, bound to `True`.
+pub(crate) fn future_module_dict(vm: &VirtualMachine) -> PyResult<PyDictRef> {
+    let dict = vm.ctx.new_dict();
+    for feature in FUTURE_FEATURES {
+        dict.set_item(*feature, vm.ctx.new_bool(true).into(), vm)?;
+    }
+    Ok(dict)
 }
 
 /// `__import__(name, globals=None, locals=None, fromlist=(), level=0)` that returns only the

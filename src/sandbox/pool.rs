@@ -376,17 +376,12 @@ fn run_unit(
             process.kill_and_reap();
         }
     }
-    if worker.is_none() {
-        match WorkerProcess::spawn(shared) {
-            Ok(process) => *worker = Some(process),
+    let process = match worker.take() {
+        Some(process) => worker.insert(process),
+        None => match WorkerProcess::spawn(shared) {
+            Ok(process) => worker.insert(process),
             Err(error) => return (RunReport::failed(error), None),
-        }
-    }
-    let Some(process) = worker.as_mut() else {
-        return (
-            RunReport::failed(Error::internal("no worker process")),
-            None,
-        );
+        },
     };
     let pid = process.pid;
     match process.run(unit) {
@@ -395,7 +390,7 @@ fn run_unit(
             shared.workers_lost.fetch_add(1, Ordering::SeqCst);
             let (own, api) = (process.unit_own, process.unit_api);
             let error = match worker.take() {
-                Some(process) => process.classify_ending(ending, &unit.budgets),
+                Some(dead) => dead.classify_ending(ending, &unit.budgets),
                 None => Error::internal("the worker vanished"),
             };
             // The worker's own measurement died with it; the parent's clock is the next best.
@@ -690,7 +685,7 @@ impl WorkerProcess {
             .lock()
             .unwrap_or_else(PoisonError::into_inner);
         let kept = tail.lines.len() as u64;
-        let first_kept = tail.total - kept;
+        let first_kept = tail.total.saturating_sub(kept);
         let skip = usize::try_from(mark.saturating_sub(first_kept)).unwrap_or(usize::MAX);
         tail.lines
             .iter()
