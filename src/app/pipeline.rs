@@ -6,6 +6,7 @@ use serde_json::Value;
 use super::error::{AppError, Classify as _};
 use super::run::origin_name;
 use super::settings::Budgets;
+use crate::sandbox::{self, Pool, PoolConfig, Unit, WorkerCommand, scene_host_spec};
 use crate::answer::{interpret, is_correct};
 use crate::dataset::{ChoiceOption, Question};
 use crate::program::Program;
@@ -84,4 +85,119 @@ pub(crate) fn finish_unit(
         api_ms: executed.api_ms,
         wall_ms: executed.wall_ms,
     }
+}
+
+/// The sandbox's budgets for the run's settings.
+pub(crate) fn sandbox_budgets(budgets: Budgets) -> sandbox::Budgets {
+    let own_time_ms = seconds_to_ms(budgets.program_seconds);
+    let api_time_ms = seconds_to_ms(budgets.api_seconds);
+    sandbox::Budgets {
+        own_time_ms,
+        api_time_ms,
+        // CPU may be spent by the program and by the API (simulation); allow both plus slack.
+        cpu_time_ms: own_time_ms.saturating_add(api_time_ms).saturating_add(10_000),
+        ..sandbox::Budgets::default()
+    }
+}
+
+fn seconds_to_ms(seconds: f64) -> u64 {
+    if seconds.is_finite() && seconds > 0.0 {
+        #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "positive, finite, rounded")]
+        let ms = (seconds * 1000.0).round().min(u64::MAX as f64) as u64;
+        ms.max(1)
+    } else {
+        1
+    }
+}
+
+/// Starts a pool of `jobs` workers (this binary) with the run's memory limit.
+pub(crate) fn start_pool(jobs: usize, budgets: Budgets) -> Result<Pool, AppError> {
+    let worker = WorkerCommand::current_exe().internal()?;
+    let mut config = PoolConfig::new(worker, jobs.max(1));
+    config.limits.address_space_bytes = budgets.memory_mib.saturating_mul(1024 * 1024);
+    Pool::start(config).internal()
+}
+
+/// The pipeline's view of one sandbox result.
+pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> ExecutedUnit {
+    let report = &result.report;
+    let outcome = match &report.outcome {
+        Ok(value) => Ok(value.to_plain_json()),
+        Err(error) => Err(unit_error(error)),
+    };
+    let work = serde_json::from_value::<WorkCounters>(report.work_counters.clone()).unwrap_or_default();
+    ExecutedUnit {
+        unit,
+        result: outcome,
+        work,
+        own_ms: round_ms(report.own_ms),
+        api_ms: round_ms(report.api_ms),
+        wall_ms: round_ms(result.wall_ms),
+    }
+}
+
+fn round_ms(ms: f64) -> u64 {
+    if ms.is_finite() && ms > 0.0 {
+        #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "positive, finite, rounded")]
+        let rounded = ms.round().min(u64::MAX as f64) as u64;
+        rounded
+    } else {
+        0
+    }
+}
+
+/// The stage and kind of a sandbox failure: scene exceptions and API time are the scene API's;
+/// everything else is the sandbox's.
+pub(crate) fn unit_error(error: &sandbox::Error) -> UnitError {
+    match error {
+        sandbox::Error::ApiException { class_name, .. } => UnitError {
+            stage: Stage::SceneApi,
+            kind: sandbox::scene_error_kind(class_name).unwrap_or("api_exception").to_string(),
+            message: error.to_string(),
+        },
+        sandbox::Error::ApiTimeout { .. } => {
+            UnitError { stage: Stage::SceneApi, kind: error.kind().to_string(), message: error.to_string() }
+        }
+        other => {
+            let kind = match other {
+                sandbox::Error::PythonException { class_name, .. } => class_name.clone(),
+                _ => other.kind().to_string(),
+            };
+            UnitError { stage: Stage::Sandbox, kind, message: other.to_string() }
+        }
+    }
+}
+
+/// Runs `units` through a pool of `jobs` workers, calling `on_result` as each finishes. Units of
+/// one video go to one worker, in order, so its memoised scene is loaded once.
+pub(crate) fn execute_units(
+    units: Vec<PreparedUnit>,
+    jobs: usize,
+    budgets: Budgets,
+    mut on_result: impl FnMut(ExecutedUnit),
+) -> Result<(), AppError> {
+    if units.is_empty() {
+        return Ok(());
+    }
+    let pool = start_pool(jobs.min(units.len()), budgets)?;
+    let sandbox_budgets = sandbox_budgets(budgets);
+    let mut names = Vec::with_capacity(units.len());
+    for (index, unit) in units.into_iter().enumerate() {
+        pool.submit(Unit {
+            id: index as u64,
+            key: format!("{}/{}", unit.video.scenario, unit.video.video_id),
+            host: scene_host_spec(&unit.video),
+            source: unit.program.source,
+            budgets: sandbox_budgets.clone(),
+        })
+        .internal()?;
+        names.push(unit.unit);
+    }
+    for result in pool.results() {
+        let Some(name) = usize::try_from(result.unit_id).ok().and_then(|i| names.get(i)) else {
+            continue;
+        };
+        on_result(executed_from(name.clone(), &result));
+    }
+    Ok(())
 }

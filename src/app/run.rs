@@ -2,7 +2,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
@@ -409,6 +409,6 @@ mod tests {
 
     #[test]
     fn default_run_dir_is_under_runs() {
-        assert!(default_run_dir().starts_with(Path::new("runs")));
+        assert!(default_run_dir().starts_with(std::path::Path::new("runs")));
     }
 }

@@ -7,161 +7,144 @@
 //! `SceneObject`, a list of them, or the list `find` returned, nested as in the paper's listings
 //! (`happen([pink_fluid], ...)`). Time inside calls is measured apart from the program's own time.
 
-use std::cell::{Cell, RefCell};
-use std::panic::AssertUnwindSafe;
+use std::cell::RefCell;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
-use rustpython_vm::builtins::{PyBaseExceptionRef, PyDictRef, PyList, PyStr, PyTuple, PyTypeRef};
+use rustpython_vm::builtins::{PyBaseExceptionRef, PyList, PyStr, PyTuple, PyType, PyTypeRef};
 use rustpython_vm::class::PyClassImpl;
 use rustpython_vm::function::FuncArgs;
 use rustpython_vm::types::{Comparable, Constructor, Hashable, PyComparisonOp, Representable};
 use rustpython_vm::{Py, PyObject, PyObjectRef, PyPayload, PyResult, VirtualMachine, pyclass};
 
+use super::{ApiClock, Host, HostRegistry, HostSpec, InstallContext};
 use crate::scene_api::{
-    ApiError, ObjectId, Scene, SceneEvent as RustEvent, SceneObjectInfo, Target,
+    ApiError, ObjectId, Scene, SceneEvent as RustEvent, SceneObjectInfo, Target, VideoSpec,
+    WorkCounters,
 };
 
-/// The per-program binding state, reachable from the native methods of this thread.
+/// The name the scene host is registered under in sandbox workers.
+pub const SCENE_HOST_NAME: &str = "scene";
+
+/// The host spec of a video's scene (its config is the [`VideoSpec`] as JSON).
+pub fn scene_host_spec(video: &VideoSpec) -> HostSpec {
+    HostSpec {
+        name: SCENE_HOST_NAME.to_string(),
+        config: serde_json::to_value(video).unwrap_or(serde_json::Value::Null),
+    }
+}
+
+/// The scene API host: one per video in a worker (the registry memoises it), so the video's
+/// annotations are loaded once and every program on that video reuses them.
+#[derive(Debug)]
+pub struct SceneHost {
+    scene: Arc<Scene>,
+    /// Work already reported, so each unit reports only its own.
+    reported: WorkCounters,
+}
+
+impl SceneHost {
+    /// A host for `video`; nothing is read until a program asks.
+    pub fn new(video: VideoSpec) -> SceneHost {
+        SceneHost { scene: Arc::new(Scene::open(video)), reported: WorkCounters::default() }
+    }
+
+    /// Builds a host from its spec's JSON config.
+    pub fn from_config(config: &serde_json::Value) -> Result<SceneHost, String> {
+        let video: VideoSpec = serde_json::from_value(config.clone()).map_err(|error| format!("bad scene host config: {error}"))?;
+        Ok(SceneHost::new(video))
+    }
+
+    /// Registers the scene host in a worker's registry.
+    pub fn register(registry: &mut HostRegistry) {
+        registry.register(SCENE_HOST_NAME, |config| SceneHost::from_config(config).map(|host| Box::new(host) as Box<dyn Host>));
+    }
+}
+
+/// Exception classes: `SceneApiError` (misuse), and its subclasses for calls the video cannot
+/// answer and for broken video files. Their names tell the pipeline the failure's kind.
+const ERROR_CLASSES: [(&str, &str); 3] =
+    [("misuse", "SceneApiError"), ("unavailable", "SceneUnavailableError"), ("data", "SceneDataError")];
+
+/// The failure kind of an uncaught scene exception class.
+pub fn scene_error_kind(class_name: &str) -> Option<&'static str> {
+    ERROR_CLASSES.iter().find(|(_, name)| *name == class_name).map(|(kind, _)| *kind)
+}
+
+impl Host for SceneHost {
+    fn install(&mut self, context: &mut InstallContext<'_>) -> PyResult<()> {
+        let base = context.cached("scene/SceneApiError", |vm| Ok(vm.ctx.new_exception_type("scene", "SceneApiError", None).into()))?;
+        let base_type = base.clone().downcast::<PyType>().map_err(|_| context.vm.new_runtime_error("SceneApiError is not a class"))?;
+        let mut classes = vec![("misuse", base_type.clone())];
+        for (kind, name) in &ERROR_CLASSES[1..] {
+            let base_type = base_type.clone();
+            let class = context.cached(&format!("scene/{name}"), move |vm| {
+                Ok(vm.ctx.new_exception_type("scene", name, Some(vec![base_type])).into())
+            })?;
+            let class = class.downcast::<PyType>().map_err(|_| context.vm.new_runtime_error("scene error is not a class"))?;
+            classes.push((kind, class));
+        }
+        let vm = context.vm;
+        for (_, class) in &classes {
+            context.set_global(class.name().as_ref(), class.clone().into())?;
+        }
+        context.set_global("SoftScene", SoftScene::make_static_type().into())?;
+        context.set_global("SceneObject", SceneObject::make_static_type().into())?;
+        context.set_global("SceneEvent", SceneEventObject::make_static_type().into())?;
+        context.set_global("SoftDynamicScene", SoftDynamicScene::make_static_type().into())?;
+        let _ = Video::make_static_type();
+        context.set_global("video", Video { scene: Arc::clone(&self.scene) }.into_ref(&vm.ctx).into())?;
+        let clock = context.clock.clone();
+        let yesno = context.cached("scene/bool_to_yesno", |vm| Ok(vm.new_function("bool_to_yesno", bool_to_yesno).into()))?;
+        context.set_global("bool_to_yesno", yesno)?;
+        let both = context.cached("scene/query_both", |vm| Ok(vm.new_function("query_both", query_both).into()))?;
+        context.set_global("query_both", both)?;
+        BINDING.with(|binding| {
+            *binding.borrow_mut() = Some(Binding { scene: Arc::clone(&self.scene), clock, classes });
+        });
+        Ok(())
+    }
+
+    fn take_work_counters(&mut self) -> serde_json::Value {
+        let now = self.scene.work();
+        let delta = now.since(&self.reported);
+        self.reported = now;
+        serde_json::to_value(delta).unwrap_or(serde_json::Value::Null)
+    }
+
+    fn api_error_class(&self) -> Option<&str> {
+        Some("SceneApiError")
+    }
+}
+
+/// The binding state of the program running on this thread (set by [`SceneHost::install`]).
 struct Binding {
     scene: Arc<Scene>,
-    error_type: PyTypeRef,
-    /// The kind of the last `SceneApiError` raised (`misuse`, `unavailable`, `data`), so an
-    /// uncaught one is reported with its kind.
-    last_error_kind: Cell<Option<&'static str>>,
-    api_time: Cell<Duration>,
-    in_api: Arc<std::sync::atomic::AtomicBool>,
+    clock: ApiClock,
+    classes: Vec<(&'static str, PyTypeRef)>,
 }
 
 thread_local! {
     static BINDING: RefCell<Option<Binding>> = const { RefCell::new(None) };
 }
 
-/// What the bindings report after a program ran.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct BindingReport {
-    /// Time spent inside scene-API calls.
-    pub(crate) api_time: Duration,
-    /// The kind of the last `SceneApiError` raised, if any.
-    pub(crate) last_error_kind: Option<&'static str>,
-}
-
-/// Installs the scene API into `globals` for one program on `scene`. `in_api` is set while a
-/// call runs, so a watchdog can pause the program's own-time clock.
-pub(crate) fn install(
-    vm: &VirtualMachine,
-    globals: &PyDictRef,
-    scene: Arc<Scene>,
-    in_api: Arc<std::sync::atomic::AtomicBool>,
-) -> PyResult<()> {
-    let error_type = vm.ctx.new_exception_type("scene", "SceneApiError", None);
-    globals.set_item("SceneApiError", error_type.clone().into(), vm)?;
-    globals.set_item("SoftScene", SoftScene::make_static_type().into(), vm)?;
-    globals.set_item("SceneObject", SceneObject::make_static_type().into(), vm)?;
-    globals.set_item(
-        "SceneEvent",
-        SceneEventObject::make_static_type().into(),
-        vm,
-    )?;
-    globals.set_item(
-        "SoftDynamicScene",
-        SoftDynamicScene::make_static_type().into(),
-        vm,
-    )?;
-    let video = Video::make_static_type();
-    let _ = video;
-    globals.set_item(
-        "video",
-        Video {
-            scene: Arc::clone(&scene),
-        }
-        .into_ref(&vm.ctx)
-        .into(),
-        vm,
-    )?;
-    globals.set_item(
-        "bool_to_yesno",
-        vm.new_function("bool_to_yesno", bool_to_yesno).into(),
-        vm,
-    )?;
-    globals.set_item(
-        "query_both",
-        vm.new_function("query_both", query_both).into(),
-        vm,
-    )?;
-    BINDING.with(|binding| {
-        *binding.borrow_mut() = Some(Binding {
-            scene,
-            error_type,
-            last_error_kind: Cell::new(None),
-            api_time: Cell::new(Duration::ZERO),
-            in_api,
-        });
-    });
-    Ok(())
-}
-
-/// Ends a program's binding and reports its API time and last error kind.
-pub(crate) fn uninstall() -> BindingReport {
-    BINDING.with(|binding| {
-        let taken = binding.borrow_mut().take();
-        taken.map_or(
-            BindingReport {
-                api_time: Duration::ZERO,
-                last_error_kind: None,
-            },
-            |b| BindingReport {
-                api_time: b.api_time.get(),
-                last_error_kind: b.last_error_kind.get(),
-            },
-        )
-    })
-}
-
-/// Runs a scene-API call: times it, converts `ApiError` into `SceneApiError`, and turns a Rust
-/// panic inside the call into a `SceneApiError` instead of losing the worker.
-fn api_call<T>(
-    vm: &VirtualMachine,
-    call: impl FnOnce(&Scene) -> Result<T, ApiError>,
-) -> PyResult<T> {
-    let (scene, in_api) = BINDING
-        .with(|b| {
-            b.borrow()
-                .as_ref()
-                .map(|b| (Arc::clone(&b.scene), Arc::clone(&b.in_api)))
-        })
+/// Runs a scene-API call through the sandbox's clock (its time is API time, and a Rust panic in
+/// it fails only this program) and turns an `ApiError` into the matching scene exception.
+fn api_call<T>(vm: &VirtualMachine, call: impl FnOnce(&Scene) -> Result<T, ApiError>) -> PyResult<T> {
+    let (scene, clock) = BINDING
+        .with(|b| b.borrow().as_ref().map(|b| (Arc::clone(&b.scene), b.clock.clone())))
         .ok_or_else(|| vm.new_runtime_error("the scene API is not bound in this interpreter"))?;
-    in_api.store(true, std::sync::atomic::Ordering::SeqCst);
-    let started = Instant::now();
-    let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| call(&scene)));
-    let elapsed = started.elapsed();
-    in_api.store(false, std::sync::atomic::Ordering::SeqCst);
-    BINDING.with(|b| {
-        if let Some(b) = b.borrow().as_ref() {
-            b.api_time.set(b.api_time.get() + elapsed);
-        }
-    });
-    match outcome {
-        Ok(Ok(value)) => Ok(value),
-        Ok(Err(error)) => Err(api_error(vm, error.kind(), &error.to_string())),
-        Err(_) => Err(api_error(
-            vm,
-            "internal",
-            "internal error in the scene API (a bug; please report it)",
-        )),
-    }
+    clock.call(vm, || call(&scene).map_err(|error| api_error(vm, error.kind(), &error.to_string())))
 }
 
-/// A `SceneApiError` with `message`, remembering its kind.
-fn api_error(vm: &VirtualMachine, kind: &'static str, message: &str) -> PyBaseExceptionRef {
-    let error_type = BINDING.with(|b| {
-        b.borrow().as_ref().map(|b| {
-            b.last_error_kind.set(Some(kind));
-            b.error_type.clone()
+/// A scene exception of `kind` with `message`.
+fn api_error(vm: &VirtualMachine, kind: &str, message: &str) -> PyBaseExceptionRef {
+    let class = BINDING.with(|b| {
+        b.borrow().as_ref().and_then(|b| {
+            b.classes.iter().find(|(k, _)| *k == kind).or_else(|| b.classes.first()).map(|(_, c)| c.clone())
         })
     });
-    match error_type {
-        Some(error_type) => vm.new_exception_msg(error_type, message.into()),
+    match class {
+        Some(class) => vm.new_exception_msg(class, message.into()),
         None => vm.new_runtime_error(message.to_string()),
     }
 }
@@ -361,7 +344,7 @@ impl Constructor for Video {
     type Args = FuncArgs;
 
     fn py_new(
-        _cls: &Py<rustpython_vm::builtins::PyType>,
+        _cls: &Py<PyType>,
         _args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<Self> {
@@ -431,7 +414,7 @@ impl Constructor for SceneObject {
     type Args = FuncArgs;
 
     fn py_new(
-        _cls: &Py<rustpython_vm::builtins::PyType>,
+        _cls: &Py<PyType>,
         _args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<Self> {
@@ -501,7 +484,7 @@ impl Constructor for SoftScene {
     type Args = FuncArgs;
 
     fn py_new(
-        _cls: &Py<rustpython_vm::builtins::PyType>,
+        _cls: &Py<PyType>,
         args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<Self> {
@@ -789,7 +772,7 @@ impl Constructor for SceneEventObject {
     type Args = FuncArgs;
 
     fn py_new(
-        _cls: &Py<rustpython_vm::builtins::PyType>,
+        _cls: &Py<PyType>,
         _args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<Self> {
@@ -828,7 +811,7 @@ impl Constructor for SoftDynamicScene {
     type Args = FuncArgs;
 
     fn py_new(
-        _cls: &Py<rustpython_vm::builtins::PyType>,
+        _cls: &Py<PyType>,
         _args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<Self> {
@@ -908,57 +891,22 @@ mod tests {
     //! tests cover the locked-down worker path.
     use super::*;
     use crate::dataset::{Scenario, VideoFolder, VideoId};
-    use crate::scene_api::{DynamicsBackend, PerceptionBackend, VideoSpec};
-    use rustpython_vm::AsObject;
-    use rustpython_vm::compiler::Mode;
+    use crate::sandbox::{Budgets, Error, Sandbox};
+    use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 
     fn run(source: &str) -> Result<String, String> {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
-        let video = VideoFolder {
-            scenario: Scenario::Rope,
-            id: VideoId("0".into()),
-            dir,
-        };
-        let scene = Arc::new(Scene::open(VideoSpec::new(
-            &video,
-            PerceptionBackend::Annotation,
-            DynamicsBackend::Annotation,
-        )));
-        let interpreter = rustpython_vm::Interpreter::without_stdlib(Default::default());
-        interpreter.enter(|vm| {
-            let scope = vm.new_scope_with_builtins();
-            install(vm, &scope.globals, scene, Arc::default()).map_err(|e| format!("{e:?}"))?;
-            let code = vm
-                .compile(source, Mode::Exec, "<test>".to_string())
-                .map_err(|e| e.to_string())?;
-            let outcome = vm.run_code_obj(code, scope.clone());
-            let report = uninstall();
-            match outcome {
-                Ok(_) => {
-                    let answer = scope
-                        .globals
-                        .get_item("answer", vm)
-                        .map_err(|_| "no answer".to_string())?;
-                    Ok(answer
-                        .repr(vm)
-                        .map_err(|_| "repr".to_string())?
-                        .to_string_lossy()
-                        .into_owned())
-                }
-                Err(exception) => {
-                    let class = exception.class().name().to_string();
-                    let message = exception
-                        .as_object()
-                        .str(vm)
-                        .map(|s| s.to_string_lossy().into_owned())
-                        .unwrap_or_default();
-                    Err(format!(
-                        "{class}[{}]: {message}",
-                        report.last_error_kind.unwrap_or("-")
-                    ))
-                }
+        let video = VideoFolder { scenario: Scenario::Rope, id: VideoId("0".into()), dir };
+        let mut host = SceneHost::new(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation));
+        let mut sandbox = Sandbox::new();
+        let report = sandbox.run(&mut host, source, &Budgets::default());
+        match report.outcome {
+            Ok(value) => Ok(value.to_plain_json().to_string()),
+            Err(Error::ApiException { class_name, message, .. }) => {
+                Err(format!("{class_name}[{}]: {message}", scene_error_kind(&class_name).unwrap_or("-")))
             }
-        })
+            Err(other) => Err(format!("{}: {other}", other.kind())),
+        }
     }
 
     #[test]
@@ -976,7 +924,7 @@ def execute_command(video):
         return "can not answer"
 answer = execute_command(video)
 "#;
-        assert_eq!(run(program).unwrap(), "'yes'");
+        assert_eq!(run(program).unwrap(), "\"yes\"");
     }
 
     #[test]
@@ -984,27 +932,27 @@ answer = execute_command(video)
         let cases = [
             (
                 "s = SoftScene(video, 'rope')\nanswer = [o.name for o in s.find('pulley')]",
-                "['blue solid pulley', 'gray hollow pulley', 'pink solid pulley', 'purple solid pulley']",
+                "[\"blue solid pulley\",\"gray hollow pulley\",\"pink solid pulley\",\"purple solid pulley\"]",
             ),
             (
                 "s = SoftScene(video, 'rope')\nanswer = s.query_pair('mass', s.find('purple cube'), s.find('green cube'))",
-                "(0.2, 0.25)",
+                "[0.2,0.25]",
             ),
             (
                 "s = SoftScene(video, 'rope')\nanswer = query_both('mass', s.find('purple cube'), s.find('pink sphere'))",
-                "(None, None)",
+                "[null,null]",
             ),
             (
                 "s = SoftScene(video, 'rope', mode='offline', video_id='0')\ne = s.register_event(s.find('purple cube'), 'decrease', 'mass')\nd = s.init_dyn_simulation(e)\nanswer = (d.happen([s.find('purple cube')], 'motion', 'up'), d.happen(s.find('blue pulley'), 'rotation', 'clockwise'))",
-                "(True, True)",
+                "[true,true]",
             ),
             (
                 "s = SoftScene(video, 'rope')\nd = s.init_dyn_simulation(s.event([], 'simulate', ''))\nanswer = bool_to_yesno(d.happen(s.find('green cube'), 'motion', 'down'))",
-                "'yes'",
+                "\"yes\"",
             ),
             (
                 "s = SoftScene(video, 'rope')\nanswer = s.find('cube')[0] == s.find('purple')[0], len({o for o in s.find('cube') + s.find('cube')})",
-                "(True, 2)",
+                "[true,2]",
             ),
             (
                 "answer = repr(SoftScene(video, 'rope').find('brown fixed point')[0])",
@@ -1012,7 +960,7 @@ answer = execute_command(video)
             ),
             (
                 "s = SoftScene(video, 'rope')\ntry:\n    s.find('banana')\nexcept SceneApiError as e:\n    answer = 'caught'",
-                "'caught'",
+                "\"caught\"",
             ),
         ];
         for (program, expected) in cases {
