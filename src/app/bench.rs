@@ -20,7 +20,9 @@ use super::settings::{BenchSettings, Budgets};
 use crate::dataset::engine::generate_rope_questions;
 use crate::dataset::{Question, QuestionId, RopeAnnotation, Scenario, VideoFolder, VideoId};
 use crate::program::builtin::write_program;
-use crate::sandbox::{self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec};
+use crate::sandbox::{
+    self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec,
+};
 use crate::scene_api::{DynamicsBackend, PerceptionBackend, VideoSpec};
 
 /// The CPython side: a stub of the scene API plus a timing harness.
@@ -53,11 +55,22 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         }
     }
     if programs.is_empty() {
-        return Err(user_error(format!("no rope programs could be written for `{}`", video.dir.display())));
+        return Err(user_error(format!(
+            "no rope programs could be written for `{}`",
+            video.dir.display()
+        )));
     }
-    let spec = VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation);
+    let spec = VideoSpec::new(
+        &video,
+        PerceptionBackend::Annotation,
+        DynamicsBackend::Annotation,
+    );
     let mut stderr = std::io::stderr().lock();
-    let _ = writeln!(stderr, "timing {} distinct rope programs ({ROUNDS} rounds each)...", programs.len());
+    let _ = writeln!(
+        stderr,
+        "timing {} distinct rope programs ({ROUNDS} rounds each)...",
+        programs.len()
+    );
 
     // RustPython, in-process, real scene API (memoised after the first program).
     let mut sandbox_in_process = sandbox::Sandbox::new();
@@ -117,8 +130,16 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
     };
 
     // Rope units through a worker pool.
-    let _ = writeln!(stderr, "pushing {} rope units through {} workers...", settings.units, settings.jobs);
-    let run_budgets = Budgets { program_seconds: 5.0, api_seconds: 300.0, memory_mib: 2048 };
+    let _ = writeln!(
+        stderr,
+        "pushing {} rope units through {} workers...",
+        settings.units, settings.jobs
+    );
+    let run_budgets = Budgets {
+        program_seconds: 5.0,
+        api_seconds: 300.0,
+        memory_mib: 2048,
+    };
     let pool = start_pool(settings.jobs, run_budgets)?;
     let started = Instant::now();
     for index in 0..settings.units {
@@ -142,11 +163,18 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         unit_walls.push(Duration::from_secs_f64(result.wall_ms.max(0.0) / 1000.0));
     }
     let elapsed = started.elapsed().as_secs_f64();
-    let units_per_second = if elapsed > 0.0 { settings.units as f64 / elapsed } else { 0.0 };
+    let units_per_second = if elapsed > 0.0 {
+        settings.units as f64 / elapsed
+    } else {
+        0.0
+    };
     drop(pool);
 
     // The sandbox's own measurements.
-    let _ = writeln!(stderr, "sandbox measurements (start-up, small programs, trivial units)...");
+    let _ = writeln!(
+        stderr,
+        "sandbox measurements (start-up, small programs, trivial units)..."
+    );
     let config = BenchConfig {
         worker: Some(WorkerCommand::current_exe().internal()?),
         jobs: settings.jobs,
@@ -179,13 +207,19 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         "sandbox": sandbox_report,
     });
     let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&report).unwrap_or_default());
+    let _ = writeln!(
+        stdout,
+        "{}",
+        serde_json::to_string_pretty(&report).unwrap_or_default()
+    );
     Ok(ExitCode::SUCCESS)
 }
 
 /// Runs the programs under `python3` with the stub API: (version, start-up times, per-program
 /// best times). An error message when CPython cannot be run.
-fn run_cpython(programs: &[(String, String)]) -> Result<(String, TimeSummary, Vec<Duration>), String> {
+fn run_cpython(
+    programs: &[(String, String)],
+) -> Result<(String, TimeSummary, Vec<Duration>), String> {
     let dir = std::env::temp_dir().join(format!("contphy-eval-bench-{}", std::process::id()));
     fs_err::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let script = dir.join("cpython_stub_api.py");
@@ -193,7 +227,10 @@ fn run_cpython(programs: &[(String, String)]) -> Result<(String, TimeSummary, Ve
     let mut startups = Vec::new();
     for _ in 0..5 {
         let started = Instant::now();
-        let status = Command::new("python3").args(["-c", "pass"]).status().map_err(|e| format!("python3: {e}"))?;
+        let status = Command::new("python3")
+            .args(["-c", "pass"])
+            .status()
+            .map_err(|e| format!("python3: {e}"))?;
         if !status.success() {
             return Err("python3 -c pass failed".to_string());
         }
@@ -207,14 +244,17 @@ fn run_cpython(programs: &[(String, String)]) -> Result<(String, TimeSummary, Ve
         .spawn()
         .map_err(|e| format!("python3: {e}"))?;
     if let Some(mut stdin) = child.stdin.take() {
-        stdin.write_all(request.to_string().as_bytes()).map_err(|e| e.to_string())?;
+        stdin
+            .write_all(request.to_string().as_bytes())
+            .map_err(|e| e.to_string())?;
     }
     let output = child.wait_with_output().map_err(|e| e.to_string())?;
     let _ = fs_err::remove_dir_all(&dir);
     if !output.status.success() {
         return Err(format!("the CPython harness failed with {}", output.status));
     }
-    let parsed: Value = serde_json::from_slice(&output.stdout).map_err(|e| format!("CPython harness output: {e}"))?;
+    let parsed: Value = serde_json::from_slice(&output.stdout)
+        .map_err(|e| format!("CPython harness output: {e}"))?;
     let version = parsed["version"].as_str().unwrap_or("?").to_string();
     let times = parsed["per_program_ns"]
         .as_array()

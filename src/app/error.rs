@@ -29,15 +29,24 @@ pub(crate) trait Classify<T> {
 
 impl<T, E: Into<anyhow::Error>> Classify<T> for Result<T, E> {
     fn user(self) -> Result<T, AppError> {
-        self.map_err(|e| AppError { class: ErrorClass::User, error: e.into() })
+        self.map_err(|e| AppError {
+            class: ErrorClass::User,
+            error: e.into(),
+        })
     }
 
     fn internal(self) -> Result<T, AppError> {
-        self.map_err(|e| AppError { class: ErrorClass::Internal, error: e.into() })
+        self.map_err(|e| AppError {
+            class: ErrorClass::Internal,
+            error: e.into(),
+        })
     }
 }
 
 /// A user error from a message.
 pub(crate) fn user_error(message: impl std::fmt::Display) -> AppError {
-    AppError { class: ErrorClass::User, error: anyhow::anyhow!("{message}") }
+    AppError {
+        class: ErrorClass::User,
+        error: anyhow::anyhow!("{message}"),
+    }
 }

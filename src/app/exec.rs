@@ -27,17 +27,26 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
     let question = match (&settings.question_id, &settings.questions) {
         (Some(id), Some(path)) => {
             let loaded = load_question_file(path, Some(video.scenario)).user()?;
-            let question = loaded.questions.into_iter().find(|q| q.id.0 == *id).ok_or_else(|| {
-                user_error(format!("question `{id}` is not in `{}`", path.display()))
-            })?;
+            let question = loaded
+                .questions
+                .into_iter()
+                .find(|q| q.id.0 == *id)
+                .ok_or_else(|| {
+                    user_error(format!("question `{id}` is not in `{}`", path.display()))
+                })?;
             Some(question)
         }
         _ => None,
     };
     let option = match (&question, settings.option) {
-        (Some(question), Some(letter)) => Some(question.option(letter).cloned().ok_or_else(|| {
-            user_error(format!("question `{}` has no option `{letter}`", question.id))
-        })?),
+        (Some(question), Some(letter)) => {
+            Some(question.option(letter).cloned().ok_or_else(|| {
+                user_error(format!(
+                    "question `{}` has no option `{letter}`",
+                    question.id
+                ))
+            })?)
+        }
         (Some(question), None) if question.answer_type.is_choice() => {
             return Err(user_error(format!(
                 "question `{}` is a choice question; pass --option with one of its letters",
@@ -73,12 +82,21 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
                 Some(value.clone()),
                 None,
                 Some(false),
-                Some(UnitError { stage: Stage::Answer, kind: error.kind().to_string(), message: error.to_string() }),
+                Some(UnitError {
+                    stage: Stage::Answer,
+                    kind: error.kind().to_string(),
+                    message: error.to_string(),
+                }),
             ),
             // Without a question there is nothing to answer; the value alone is the result.
             (Err(_), None) => (Some(value.clone()), None, None, None),
         },
-        Err(error) => (None, None, question.as_ref().map(|_| false), Some(error.clone())),
+        Err(error) => (
+            None,
+            None,
+            question.as_ref().map(|_| false),
+            Some(error.clone()),
+        ),
     };
     let produced = value.is_some();
     let mut output = json!({
@@ -101,6 +119,14 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
         output["correct"] = json!(correct);
     }
     let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&output).unwrap_or_default());
-    Ok(if produced { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    let _ = writeln!(
+        stdout,
+        "{}",
+        serde_json::to_string_pretty(&output).unwrap_or_default()
+    );
+    Ok(if produced {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }

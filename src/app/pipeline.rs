@@ -6,10 +6,10 @@ use serde_json::Value;
 use super::error::{AppError, Classify as _};
 use super::run::origin_name;
 use super::settings::Budgets;
-use crate::sandbox::{self, Pool, PoolConfig, Unit, WorkerCommand, scene_host_spec};
 use crate::answer::{interpret, is_correct};
 use crate::dataset::{ChoiceOption, Question};
 use crate::program::Program;
+use crate::sandbox::{self, Pool, PoolConfig, Unit, WorkerCommand, scene_host_spec};
 use crate::scene_api::{VideoSpec, WorkCounters};
 use crate::score::{Prediction, Stage, UnitError};
 
@@ -62,7 +62,11 @@ pub(crate) fn finish_unit(
                 Some(value),
                 None,
                 false,
-                Some(UnitError { stage: Stage::Answer, kind: error.kind().to_string(), message: error.to_string() }),
+                Some(UnitError {
+                    stage: Stage::Answer,
+                    kind: error.kind().to_string(),
+                    message: error.to_string(),
+                }),
             ),
         },
         Err(error) => (None, None, false, Some(error)),
@@ -95,14 +99,20 @@ pub(crate) fn sandbox_budgets(budgets: Budgets) -> sandbox::Budgets {
         own_time_ms,
         api_time_ms,
         // CPU may be spent by the program and by the API (simulation); allow both plus slack.
-        cpu_time_ms: own_time_ms.saturating_add(api_time_ms).saturating_add(10_000),
+        cpu_time_ms: own_time_ms
+            .saturating_add(api_time_ms)
+            .saturating_add(10_000),
         ..sandbox::Budgets::default()
     }
 }
 
 fn seconds_to_ms(seconds: f64) -> u64 {
     if seconds.is_finite() && seconds > 0.0 {
-        #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "positive, finite, rounded")]
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "positive, finite, rounded"
+        )]
         let ms = (seconds * 1000.0).round().min(u64::MAX as f64) as u64;
         ms.max(1)
     } else {
@@ -125,7 +135,8 @@ pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> Execu
         Ok(value) => Ok(value.to_plain_json()),
         Err(error) => Err(unit_error(error)),
     };
-    let work = serde_json::from_value::<WorkCounters>(report.work_counters.clone()).unwrap_or_default();
+    let work =
+        serde_json::from_value::<WorkCounters>(report.work_counters.clone()).unwrap_or_default();
     ExecutedUnit {
         unit,
         result: outcome,
@@ -138,7 +149,11 @@ pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> Execu
 
 fn round_ms(ms: f64) -> u64 {
     if ms.is_finite() && ms > 0.0 {
-        #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "positive, finite, rounded")]
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "positive, finite, rounded"
+        )]
         let rounded = ms.round().min(u64::MAX as f64) as u64;
         rounded
     } else {
@@ -152,18 +167,26 @@ pub(crate) fn unit_error(error: &sandbox::Error) -> UnitError {
     match error {
         sandbox::Error::ApiException { class_name, .. } => UnitError {
             stage: Stage::SceneApi,
-            kind: sandbox::scene_error_kind(class_name).unwrap_or("api_exception").to_string(),
+            kind: sandbox::scene_error_kind(class_name)
+                .unwrap_or("api_exception")
+                .to_string(),
             message: error.to_string(),
         },
-        sandbox::Error::ApiTimeout { .. } => {
-            UnitError { stage: Stage::SceneApi, kind: error.kind().to_string(), message: error.to_string() }
-        }
+        sandbox::Error::ApiTimeout { .. } => UnitError {
+            stage: Stage::SceneApi,
+            kind: error.kind().to_string(),
+            message: error.to_string(),
+        },
         other => {
             let kind = match other {
                 sandbox::Error::PythonException { class_name, .. } => class_name.clone(),
                 _ => other.kind().to_string(),
             };
-            UnitError { stage: Stage::Sandbox, kind, message: other.to_string() }
+            UnitError {
+                stage: Stage::Sandbox,
+                kind,
+                message: other.to_string(),
+            }
         }
     }
 }
@@ -194,7 +217,10 @@ pub(crate) fn execute_units(
         names.push(unit.unit);
     }
     for result in pool.results() {
-        let Some(name) = usize::try_from(result.unit_id).ok().and_then(|i| names.get(i)) else {
+        let Some(name) = usize::try_from(result.unit_id)
+            .ok()
+            .and_then(|i| names.get(i))
+        else {
             continue;
         };
         on_result(executed_from(name.clone(), &result));

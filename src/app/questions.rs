@@ -9,7 +9,8 @@ use super::error::{AppError, Classify as _, user_error};
 use super::settings::QuestionsSettings;
 use crate::dataset::engine::{SamplerConfig, generate_rope_questions, sample_and_split};
 use crate::dataset::{
-    DataRoot, RopeAnnotation, Scenario, Split, questions_file_name, write_per_video_file, write_sampled_file,
+    DataRoot, RopeAnnotation, Scenario, Split, questions_file_name, write_per_video_file,
+    write_sampled_file,
 };
 
 pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppError> {
@@ -30,7 +31,10 @@ pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppErr
         );
     }
     if !scenarios.contains(&Scenario::Rope) {
-        return Err(user_error(format!("data root `{}` has no `pulley_group` folder", settings.data.display())));
+        return Err(user_error(format!(
+            "data root `{}` has no `pulley_group` folder",
+            settings.data.display()
+        )));
     }
     let listing = root.list_videos(Scenario::Rope).user()?;
     if listing.valid.is_empty() {
@@ -43,7 +47,10 @@ pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppErr
     for video in &listing.valid {
         let annotation = RopeAnnotation::load(&video.outputs_json()).user()?;
         let questions = generate_rope_questions(&video.id, &annotation, settings.seed).user()?;
-        let path = settings.out.join(Scenario::Rope.folder_name()).join(format!("{}.json", video.id));
+        let path = settings
+            .out
+            .join(Scenario::Rope.folder_name())
+            .join(format!("{}.json", video.id));
         write_per_video_file(&path, &questions).internal()?;
         per_video.push(questions);
     }
@@ -70,12 +77,20 @@ pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppErr
     for (family, count) in &family_counts {
         let _ = writeln!(stdout, "| {family} | {count} |");
     }
-    let _ = writeln!(stdout, "\n| split | file | sampled questions |\n|---|---|---:|");
+    let _ = writeln!(
+        stdout,
+        "\n| split | file | sampled questions |\n|---|---|---:|"
+    );
     for split in Split::ALL {
         let records = splits.get(split);
         let name = questions_file_name(Scenario::Rope, split);
         write_sampled_file(&settings.out.join(&name), records).internal()?;
-        let _ = writeln!(stdout, "| {} | {name} | {} |", split.as_str(), records.len());
+        let _ = writeln!(
+            stdout,
+            "| {} | {name} | {} |",
+            split.as_str(),
+            records.len()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -14,8 +14,8 @@ use super::progress::Progress;
 use super::run_dir::{Manifest, RunDir, RunIdentity, unix_ms};
 use super::settings::{RunSettings, SplitSelection};
 use crate::dataset::{
-    ChoiceOption, DataRoot, Question, QuestionSource, Scenario, Split, VideoFolder, load_question_file,
-    read_validity, sampled_file_path,
+    ChoiceOption, DataRoot, Question, QuestionSource, Scenario, Split, VideoFolder,
+    load_question_file, read_validity, sampled_file_path,
 };
 use crate::program::{CacheEntry, Program, ProgramCache, ProgramOrigin, builtin, cache_key};
 use crate::report::{ReportMeta, render_run_report};
@@ -29,42 +29,54 @@ const BUILTIN_SOURCE: &str = "builtin";
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let root = DataRoot::open(&settings.data).user()?;
     let (sources, question_files) = load_questions(&root, settings)?;
-    let mut questions: Vec<Question> = sources.into_iter().flat_map(|s| s.questions).collect();
-
+    let mut questions: Vec<Question> = Vec::new();
     // Every question must name a video folder; invalid trials are skipped with a count.
     let mut videos: BTreeMap<(Scenario, String), Option<VideoFolder>> = BTreeMap::new();
-    for (source_index, question) in questions.iter().enumerate() {
-        let key = (question.scenario, question.video_id.0.clone());
-        if videos.contains_key(&key) {
-            continue;
-        }
-        let folder = root.video(question.scenario, &question.video_id);
-        if !folder.outputs_json().is_file() {
-            return Err(AppError {
-                class: super::ErrorClass::User,
-                error: crate::dataset::DatasetError::MissingVideo {
-                    path: question_files.get(source_index).map(|(p, _)| PathBuf::from(p)).unwrap_or_default(),
-                    question_id: question.id.0.clone(),
-                    video_id: question.video_id.0.clone(),
-                    expected: folder.dir.clone(),
+    for source in sources {
+        for question in source.questions {
+            let key = (question.scenario, question.video_id.0.clone());
+            if !videos.contains_key(&key) {
+                let folder = root.video(question.scenario, &question.video_id);
+                if !folder.outputs_json().is_file() {
+                    return Err(AppError {
+                        class: super::ErrorClass::User,
+                        error: crate::dataset::DatasetError::MissingVideo {
+                            path: source.path.clone(),
+                            question_id: question.id.0.clone(),
+                            video_id: question.video_id.0.clone(),
+                            expected: folder.dir.clone(),
+                        }
+                        .into(),
+                    });
                 }
-                .into(),
-            });
+                let valid = read_validity(&folder.outputs_json()).user()?;
+                videos.insert(key, valid.then_some(folder));
+            }
+            questions.push(question);
         }
-        let valid = read_validity(&folder.outputs_json()).user()?;
-        videos.insert(key, valid.then_some(folder));
     }
     let before = questions.len();
-    questions.retain(|q| videos.get(&(q.scenario, q.video_id.0.clone())).is_some_and(Option::is_some));
+    questions.retain(|q| {
+        videos
+            .get(&(q.scenario, q.video_id.0.clone()))
+            .is_some_and(Option::is_some)
+    });
     let skipped_invalid = before - questions.len();
     if let Some((index, count)) = settings.shard {
-        questions = questions.into_iter().enumerate().filter(|(i, _)| i % count == index).map(|(_, q)| q).collect();
+        questions = questions
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % count == index)
+            .map(|(_, q)| q)
+            .collect();
     }
     if let Some(limit) = settings.limit {
         questions.truncate(limit);
     }
     if questions.is_empty() {
-        return Err(user_error("no questions to evaluate (check --questions, --split, --scenario, --shard and --limit)"));
+        return Err(user_error(
+            "no questions to evaluate (check --questions, --split, --scenario, --shard and --limit)",
+        ));
     }
 
     let priors = load_priors(&root, &questions)?;
@@ -102,8 +114,12 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     }
     fs_err::create_dir_all(&out).user()?;
 
-    let eval_questions: Vec<EvalQuestion> = questions.iter().map(EvalQuestion::from_question).collect();
-    let unit_order: Vec<String> = eval_questions.iter().flat_map(EvalQuestion::unit_ids).collect();
+    let eval_questions: Vec<EvalQuestion> =
+        questions.iter().map(EvalQuestion::from_question).collect();
+    let unit_order: Vec<String> = eval_questions
+        .iter()
+        .flat_map(EvalQuestion::unit_ids)
+        .collect();
     let started = unix_ms();
     let mut manifest = Manifest {
         tool: "contphy-eval".to_string(),
@@ -117,15 +133,31 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         finished_unix_ms: 0,
     };
     run_dir.write_manifest(&manifest)?;
-    run_dir.write_questions(&RunQuestions { questions: eval_questions.clone(), priors: priors.clone() })?;
+    run_dir.write_questions(&RunQuestions {
+        questions: eval_questions.clone(),
+        priors: priors.clone(),
+    })?;
 
     // Units still to do, with their programs.
     let finished: BTreeSet<&str> = done.iter().map(|p| p.unit.as_str()).collect();
+    if settings.resume && !finished.is_empty() {
+        let kept = unit_order
+            .iter()
+            .filter(|unit| finished.contains(unit.as_str()))
+            .count();
+        let mut stderr = std::io::stderr().lock();
+        let _ = writeln!(
+            stderr,
+            "resuming: {kept} of {} units already done",
+            unit_order.len()
+        );
+    }
     let cache = settings.cache.as_deref().map(ProgramCache::new);
     let mut prepared = Vec::new();
     let mut immediate: Vec<Prediction> = Vec::new();
     for (question_index, question) in questions.iter().enumerate() {
-        let Some(Some(video)) = videos.get(&(question.scenario, question.video_id.0.clone())) else {
+        let Some(Some(video)) = videos.get(&(question.scenario, question.video_id.0.clone()))
+        else {
             continue;
         };
         let spec = VideoSpec::new(video, settings.perception, settings.dynamics);
@@ -141,11 +173,27 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
                     video: spec.clone(),
                     program,
                 }),
-                Err(error) => immediate.push(failed_prediction(question, option, &unit, None, error)),
+                Err(error) => {
+                    immediate.push(failed_prediction(question, option, &unit, None, error))
+                }
             }
         }
     }
 
+    // Units of one video are submitted together, so each worker loads a video once and the
+    // work counters (which unit paid for the load) do not depend on scheduling.
+    prepared.sort_by(|a, b| {
+        (
+            a.video.scenario,
+            a.video.video_id.as_str(),
+            a.question_index,
+        )
+            .cmp(&(
+                b.video.scenario,
+                b.video.video_id.as_str(),
+                b.question_index,
+            ))
+    });
     let progress = Progress::new((prepared.len() + immediate.len()) as u64, settings.quiet);
     let mut writer = run_dir.prediction_writer()?;
     let mut failed = 0_u64;
@@ -159,27 +207,37 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let mut write_error: Option<AppError> = None;
     let units_by_id: BTreeMap<String, (usize, Option<ChoiceOption>, Program)> = prepared
         .iter()
-        .map(|u| (u.unit.clone(), (u.question_index, u.option.clone(), u.program.clone())))
+        .map(|u| {
+            (
+                u.unit.clone(),
+                (u.question_index, u.option.clone(), u.program.clone()),
+            )
+        })
         .collect();
-    execute_units(prepared, settings.jobs, settings.budgets, |executed: ExecutedUnit| {
-        let Some((question_index, option, program)) = units_by_id.get(&executed.unit) else {
-            return;
-        };
-        let Some(question) = questions.get(*question_index) else {
-            return;
-        };
-        let prediction = finish_unit(question, option.as_ref(), program, executed);
-        if prediction.error.is_some() {
-            failed += 1;
-        }
-        if write_error.is_none() {
-            if let Err(error) = writer.append(&prediction) {
-                write_error = Some(error);
+    execute_units(
+        prepared,
+        settings.jobs,
+        settings.budgets,
+        |executed: ExecutedUnit| {
+            let Some((question_index, option, program)) = units_by_id.get(&executed.unit) else {
+                return;
+            };
+            let Some(question) = questions.get(*question_index) else {
+                return;
+            };
+            let prediction = finish_unit(question, option.as_ref(), program, executed);
+            if prediction.error.is_some() {
+                failed += 1;
             }
-        }
-        progress.advance(failed);
-        new_predictions.push(prediction);
-    })?;
+            if write_error.is_none() {
+                if let Err(error) = writer.append(&prediction) {
+                    write_error = Some(error);
+                }
+            }
+            progress.advance(failed);
+            new_predictions.push(prediction);
+        },
+    )?;
     progress.finish();
     if let Some(error) = write_error {
         return Err(error);
@@ -192,14 +250,27 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let scores = score(&eval_questions, &predictions, &priors);
     run_dir.write_json("results.json", &json!({ "scores": scores }))?;
     let meta = ReportMeta {
-        run_name: out.file_name().map_or_else(|| out.display().to_string(), |n| n.to_string_lossy().into_owned()),
+        run_name: out.file_name().map_or_else(
+            || out.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
         program_source: BUILTIN_SOURCE.to_string(),
         backends: format!(
             "perception={}, dynamics={}",
-            serde_json::to_value(settings.perception).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
-            serde_json::to_value(settings.dynamics).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
+            serde_json::to_value(settings.perception)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default(),
+            serde_json::to_value(settings.dynamics)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default(),
         ),
-        questions: question_files.iter().map(|(path, _)| path.as_str()).collect::<Vec<_>>().join(", "),
+        questions: question_files
+            .iter()
+            .map(|(path, _)| path.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
     };
     let report = render_run_report(&meta, &scores);
     run_dir.write_text("report.md", &report)?;
@@ -239,9 +310,16 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
 }
 
 /// The question files of the run: `--questions`, or the sampled files of the split(s).
-fn load_questions(root: &DataRoot, settings: &RunSettings) -> Result<(Vec<QuestionSource>, Vec<(String, String)>), AppError> {
+fn load_questions(
+    root: &DataRoot,
+    settings: &RunSettings,
+) -> Result<(Vec<QuestionSource>, Vec<(String, String)>), AppError> {
     let paths: Vec<(PathBuf, Option<Scenario>)> = if settings.questions.is_empty() {
-        let scenarios = if settings.scenarios.is_empty() { root.scenarios() } else { settings.scenarios.clone() };
+        let scenarios = if settings.scenarios.is_empty() {
+            root.scenarios()
+        } else {
+            settings.scenarios.clone()
+        };
         if scenarios.is_empty() {
             return Err(user_error(format!(
                 "data root `{}` has no scenario folder (pulley_group, fluid_slides, cloth_collision or soft_body)",
@@ -268,7 +346,16 @@ fn load_questions(root: &DataRoot, settings: &RunSettings) -> Result<(Vec<Questi
         }
         paths
     } else {
-        settings.questions.iter().map(|p| (p.clone(), None)).collect()
+        // One --scenario names the scenario of files whose names do not tell it.
+        let hint = match settings.scenarios.as_slice() {
+            [one] => Some(*one),
+            _ => None,
+        };
+        settings
+            .questions
+            .iter()
+            .map(|p| (p.clone(), hint))
+            .collect()
     };
     let mut sources = Vec::new();
     let mut files = Vec::new();
@@ -327,15 +414,29 @@ fn obtain_program(
     let key = cache_key(&key_material);
     if offline {
         let Some(cache) = cache else {
-            return Ok(Err(program_error("cache_miss", "--offline needs --cache".to_string())));
-        };
-        return Ok(match cache.get(&key).context("reading the program cache").user()? {
-            Some(entry) => Ok(Program { source: entry.program, origin: ProgramOrigin::Cache }),
-            None => Err(program_error(
+            return Ok(Err(program_error(
                 "cache_miss",
-                format!("no cached program for unit `{unit}` (key {key}); run once without --offline to record it"),
-            )),
-        });
+                "--offline needs --cache".to_string(),
+            )));
+        };
+        return Ok(
+            match cache
+                .get(&key)
+                .context("reading the program cache")
+                .user()?
+            {
+                Some(entry) => Ok(Program {
+                    source: entry.program,
+                    origin: ProgramOrigin::Cache,
+                }),
+                None => Err(program_error(
+                    "cache_miss",
+                    format!(
+                        "no cached program for unit `{unit}` (key {key}); run once without --offline to record it"
+                    ),
+                )),
+            },
+        );
     }
     let source = match builtin::write_program(question, option) {
         Ok(source) => source,
@@ -354,11 +455,18 @@ fn obtain_program(
             .context("recording the program in the cache")
             .internal()?;
     }
-    Ok(Ok(Program { source, origin: ProgramOrigin::Builtin }))
+    Ok(Ok(Program {
+        source,
+        origin: ProgramOrigin::Builtin,
+    }))
 }
 
 fn program_error(kind: &str, message: String) -> UnitError {
-    UnitError { stage: Stage::Program, kind: kind.to_string(), message }
+    UnitError {
+        stage: Stage::Program,
+        kind: kind.to_string(),
+        message,
+    }
 }
 
 pub(super) fn failed_prediction(

@@ -77,7 +77,9 @@ pub(crate) struct RunDir {
 
 impl RunDir {
     pub(crate) fn new(dir: &Path) -> RunDir {
-        RunDir { dir: dir.to_path_buf() }
+        RunDir {
+            dir: dir.to_path_buf(),
+        }
     }
 
     pub(crate) fn dir(&self) -> &Path {
@@ -104,7 +106,9 @@ impl RunDir {
     pub(crate) fn read_manifest(&self) -> Result<Manifest, AppError> {
         let path = self.manifest_path();
         let bytes = fs_err::read(&path).user()?;
-        serde_json::from_slice(&bytes).with_context(|| format!("`{}` is not a contphy-eval manifest", path.display())).user()
+        serde_json::from_slice(&bytes)
+            .with_context(|| format!("`{}` is not a contphy-eval manifest", path.display()))
+            .user()
     }
 
     pub(crate) fn write_manifest(&self, manifest: &Manifest) -> Result<(), AppError> {
@@ -133,16 +137,23 @@ impl RunDir {
         let file = fs_err::File::open(&path).user()?;
         let mut predictions = Vec::new();
         let mut good_bytes = 0_u64;
-        let mut lines = std::io::BufReader::new(file).split(b'\n').enumerate().peekable();
+        let mut lines = std::io::BufReader::new(file)
+            .split(b'\n')
+            .enumerate()
+            .peekable();
         while let Some((index, line)) = lines.next() {
-            let line = line.with_context(|| format!("cannot read `{}`", path.display())).user()?;
+            let line = line
+                .with_context(|| format!("cannot read `{}`", path.display()))
+                .user()?;
             let is_last = lines.peek().is_none();
             match serde_json::from_slice::<Prediction>(&line) {
                 Ok(prediction) => {
                     predictions.push(prediction);
                     good_bytes += line.len() as u64 + 1;
                 }
-                Err(_) if line.iter().all(u8::is_ascii_whitespace) => good_bytes += line.len() as u64 + 1,
+                Err(_) if line.iter().all(u8::is_ascii_whitespace) => {
+                    good_bytes += line.len() as u64 + 1
+                }
                 Err(_) if is_last => {
                     // A torn tail: truncate to the last complete line.
                     let file = fs_err::OpenOptions::new().write(true).open(&path).user()?;
@@ -164,15 +175,32 @@ impl RunDir {
     /// Opens `predictions.jsonl` for appending.
     pub(crate) fn prediction_writer(&self) -> Result<PredictionWriter, AppError> {
         let path = self.predictions_path();
-        let file = fs_err::OpenOptions::new().create(true).append(true).open(&path).internal()?;
+        let file = fs_err::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&path)
+            .internal()?;
         Ok(PredictionWriter { file, path })
     }
 
     /// Rewrites `predictions.jsonl` atomically in `order` (unit ids), dropping duplicates.
-    pub(crate) fn rewrite_predictions(&self, predictions: &[Prediction], order: &[String]) -> Result<(), AppError> {
-        let rank: BTreeMap<&str, usize> = order.iter().enumerate().map(|(i, u)| (u.as_str(), i)).collect();
+    pub(crate) fn rewrite_predictions(
+        &self,
+        predictions: &[Prediction],
+        order: &[String],
+    ) -> Result<(), AppError> {
+        let rank: BTreeMap<&str, usize> = order
+            .iter()
+            .enumerate()
+            .map(|(i, u)| (u.as_str(), i))
+            .collect();
         let mut sorted: Vec<&Prediction> = predictions.iter().collect();
-        sorted.sort_by_key(|p| (rank.get(p.unit.as_str()).copied().unwrap_or(usize::MAX), p.unit.clone()));
+        sorted.sort_by_key(|p| {
+            (
+                rank.get(p.unit.as_str()).copied().unwrap_or(usize::MAX),
+                p.unit.clone(),
+            )
+        });
         sorted.dedup_by(|a, b| a.unit == b.unit);
         let mut bytes = Vec::new();
         for prediction in sorted {

@@ -43,11 +43,17 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
         }
         let ids: Vec<String> = questions.questions.iter().map(|q| q.id.clone()).collect();
         question_sets.push(ids);
-        let name = dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let name = dir.file_name().map_or_else(
+            || dir.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         runs.push((name, scores));
     }
     if question_sets.windows(2).any(|pair| pair[0] != pair[1]) {
-        notes.push("the runs evaluated different questions; RND and FRQ are those of the first run".to_string());
+        notes.push(
+            "the runs evaluated different questions; RND and FRQ are those of the first run"
+                .to_string(),
+        );
     }
     let mut stdout = std::io::stdout().lock();
     let _ = write!(stdout, "{}", render_leaderboard(&runs));
@@ -60,11 +66,17 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
 
 pub(crate) fn cache_list(settings: &CacheSettings) -> Result<ExitCode, AppError> {
     if !settings.cache.is_dir() {
-        return Err(user_error(format!("program cache `{}` does not exist", settings.cache.display())));
+        return Err(user_error(format!(
+            "program cache `{}` does not exist",
+            settings.cache.display()
+        )));
     }
     let entries = ProgramCache::new(&settings.cache).list().user()?;
     let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "| key | source | first unit | lines | program hash |");
+    let _ = writeln!(
+        stdout,
+        "| key | source | first unit | lines | program hash |"
+    );
     let _ = writeln!(stdout, "|---|---|---|---:|---|");
     for entry in &entries {
         let hash = crate::util::content_hash(entry.program.as_bytes());

@@ -16,7 +16,12 @@ use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 ///
 /// With no subcommand, `contphy-eval --data DIR …` runs the evaluation (`run`).
 #[derive(Debug, Parser)]
-#[command(name = "contphy-eval", version, args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+#[command(
+    name = "contphy-eval",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -111,9 +116,9 @@ pub struct RunArgs {
     /// Replay programs from --cache only; a unit whose program is not cached fails.
     #[arg(long, requires = "cache")]
     offline: bool,
-    /// Sandbox worker processes.
-    #[arg(long, value_name = "N", default_value_t = default_jobs())]
-    jobs: usize,
+    /// Sandbox worker processes (default: the number of cores).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
     /// Evaluate at most N questions (after sharding).
     #[arg(long, value_name = "N")]
     limit: Option<usize>,
@@ -133,10 +138,18 @@ fn default_jobs() -> usize {
 
 fn parse_shard(text: &str) -> Result<(usize, usize), String> {
     let (index, count) = text.split_once('/').ok_or("expected I/N, e.g. 0/4")?;
-    let index: usize = index.trim().parse().map_err(|_| format!("`{index}` is not a number"))?;
-    let count: usize = count.trim().parse().map_err(|_| format!("`{count}` is not a number"))?;
+    let index: usize = index
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{index}` is not a number"))?;
+    let count: usize = count
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{count}` is not a number"))?;
     if count == 0 || index >= count {
-        return Err(format!("shard {index}/{count}: I must be smaller than N and N at least 1"));
+        return Err(format!(
+            "shard {index}/{count}: I must be smaller than N and N at least 1"
+        ));
     }
     Ok((index, count))
 }
@@ -215,9 +228,9 @@ pub enum BenchCommand {
         /// Units pushed through the pool.
         #[arg(long, value_name = "N", default_value_t = 2000)]
         units: usize,
-        /// Worker processes.
-        #[arg(long, value_name = "N", default_value_t = default_jobs())]
-        jobs: usize,
+        /// Worker processes (default: the number of cores).
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
         /// The rope video whose programs are timed.
         #[arg(long, value_name = "DIR", default_value = "eval/demo/pulley_group/0")]
         video: PathBuf,
@@ -262,7 +275,7 @@ impl RunArgs {
             resume: self.resume,
             cache: self.cache,
             offline: self.offline,
-            jobs: self.jobs.max(1),
+            jobs: self.jobs.unwrap_or_else(default_jobs).max(1),
             limit: self.limit,
             shard: self.shard,
             quiet: self.quiet,
@@ -298,9 +311,15 @@ impl Cli {
                 dynamics_per_video: args.dynamics_per_video,
             }),
             Some(Command::Score(args)) => Request::Score(ScoreSettings { runs: args.runs }),
-            Some(Command::Cache(CacheCommand::Ls { cache })) => Request::CacheList(CacheSettings { cache }),
+            Some(Command::Cache(CacheCommand::Ls { cache })) => {
+                Request::CacheList(CacheSettings { cache })
+            }
             Some(Command::Bench(BenchCommand::Sandbox { units, jobs, video })) => {
-                Request::BenchSandbox(BenchSettings { units, jobs: jobs.max(1), video })
+                Request::BenchSandbox(BenchSettings {
+                    units,
+                    jobs: jobs.unwrap_or_else(default_jobs).max(1),
+                    video,
+                })
             }
         }
     }

@@ -45,42 +45,67 @@ pub struct SceneHost {
 impl SceneHost {
     /// A host for `video`; nothing is read until a program asks.
     pub fn new(video: VideoSpec) -> SceneHost {
-        SceneHost { scene: Arc::new(Scene::open(video)), reported: WorkCounters::default() }
+        SceneHost {
+            scene: Arc::new(Scene::open(video)),
+            reported: WorkCounters::default(),
+        }
     }
 
     /// Builds a host from its spec's JSON config.
     pub fn from_config(config: &serde_json::Value) -> Result<SceneHost, String> {
-        let video: VideoSpec = serde_json::from_value(config.clone()).map_err(|error| format!("bad scene host config: {error}"))?;
+        let video: VideoSpec = serde_json::from_value(config.clone())
+            .map_err(|error| format!("bad scene host config: {error}"))?;
         Ok(SceneHost::new(video))
     }
 
     /// Registers the scene host in a worker's registry.
     pub fn register(registry: &mut HostRegistry) {
-        registry.register(SCENE_HOST_NAME, |config| SceneHost::from_config(config).map(|host| Box::new(host) as Box<dyn Host>));
+        registry.register(SCENE_HOST_NAME, |config| {
+            SceneHost::from_config(config).map(|host| Box::new(host) as Box<dyn Host>)
+        });
     }
 }
 
 /// Exception classes: `SceneApiError` (misuse), and its subclasses for calls the video cannot
 /// answer and for broken video files. Their names tell the pipeline the failure's kind.
-const ERROR_CLASSES: [(&str, &str); 3] =
-    [("misuse", "SceneApiError"), ("unavailable", "SceneUnavailableError"), ("data", "SceneDataError")];
+const ERROR_CLASSES: [(&str, &str); 3] = [
+    ("misuse", "SceneApiError"),
+    ("unavailable", "SceneUnavailableError"),
+    ("data", "SceneDataError"),
+];
 
 /// The failure kind of an uncaught scene exception class.
 pub fn scene_error_kind(class_name: &str) -> Option<&'static str> {
-    ERROR_CLASSES.iter().find(|(_, name)| *name == class_name).map(|(kind, _)| *kind)
+    ERROR_CLASSES
+        .iter()
+        .find(|(_, name)| *name == class_name)
+        .map(|(kind, _)| *kind)
 }
 
 impl Host for SceneHost {
     fn install(&mut self, context: &mut InstallContext<'_>) -> PyResult<()> {
-        let base = context.cached("scene/SceneApiError", |vm| Ok(vm.ctx.new_exception_type("scene", "SceneApiError", None).into()))?;
-        let base_type = base.clone().downcast::<PyType>().map_err(|_| context.vm.new_runtime_error("SceneApiError is not a class"))?;
+        let base = context.cached("scene/SceneApiError", |vm| {
+            Ok(vm
+                .ctx
+                .new_exception_type("scene", "SceneApiError", None)
+                .into())
+        })?;
+        let base_type = base
+            .clone()
+            .downcast::<PyType>()
+            .map_err(|_| context.vm.new_runtime_error("SceneApiError is not a class"))?;
         let mut classes = vec![("misuse", base_type.clone())];
         for (kind, name) in &ERROR_CLASSES[1..] {
             let base_type = base_type.clone();
             let class = context.cached(&format!("scene/{name}"), move |vm| {
-                Ok(vm.ctx.new_exception_type("scene", name, Some(vec![base_type])).into())
+                Ok(vm
+                    .ctx
+                    .new_exception_type("scene", name, Some(vec![base_type]))
+                    .into())
             })?;
-            let class = class.downcast::<PyType>().map_err(|_| context.vm.new_runtime_error("scene error is not a class"))?;
+            let class = class
+                .downcast::<PyType>()
+                .map_err(|_| context.vm.new_runtime_error("scene error is not a class"))?;
             classes.push((kind, class));
         }
         let vm = context.vm;
@@ -90,16 +115,34 @@ impl Host for SceneHost {
         context.set_global("SoftScene", SoftScene::make_static_type().into())?;
         context.set_global("SceneObject", SceneObject::make_static_type().into())?;
         context.set_global("SceneEvent", SceneEventObject::make_static_type().into())?;
-        context.set_global("SoftDynamicScene", SoftDynamicScene::make_static_type().into())?;
+        context.set_global(
+            "SoftDynamicScene",
+            SoftDynamicScene::make_static_type().into(),
+        )?;
         let _ = Video::make_static_type();
-        context.set_global("video", Video { scene: Arc::clone(&self.scene) }.into_ref(&vm.ctx).into())?;
+        context.set_global(
+            "video",
+            Video {
+                scene: Arc::clone(&self.scene),
+            }
+            .into_ref(&vm.ctx)
+            .into(),
+        )?;
         let clock = context.clock.clone();
-        let yesno = context.cached("scene/bool_to_yesno", |vm| Ok(vm.new_function("bool_to_yesno", bool_to_yesno).into()))?;
+        let yesno = context.cached("scene/bool_to_yesno", |vm| {
+            Ok(vm.new_function("bool_to_yesno", bool_to_yesno).into())
+        })?;
         context.set_global("bool_to_yesno", yesno)?;
-        let both = context.cached("scene/query_both", |vm| Ok(vm.new_function("query_both", query_both).into()))?;
+        let both = context.cached("scene/query_both", |vm| {
+            Ok(vm.new_function("query_both", query_both).into())
+        })?;
         context.set_global("query_both", both)?;
         BINDING.with(|binding| {
-            *binding.borrow_mut() = Some(Binding { scene: Arc::clone(&self.scene), clock, classes });
+            *binding.borrow_mut() = Some(Binding {
+                scene: Arc::clone(&self.scene),
+                clock,
+                classes,
+            });
         });
         Ok(())
     }
@@ -129,18 +172,31 @@ thread_local! {
 
 /// Runs a scene-API call through the sandbox's clock (its time is API time, and a Rust panic in
 /// it fails only this program) and turns an `ApiError` into the matching scene exception.
-fn api_call<T>(vm: &VirtualMachine, call: impl FnOnce(&Scene) -> Result<T, ApiError>) -> PyResult<T> {
+fn api_call<T>(
+    vm: &VirtualMachine,
+    call: impl FnOnce(&Scene) -> Result<T, ApiError>,
+) -> PyResult<T> {
     let (scene, clock) = BINDING
-        .with(|b| b.borrow().as_ref().map(|b| (Arc::clone(&b.scene), b.clock.clone())))
+        .with(|b| {
+            b.borrow()
+                .as_ref()
+                .map(|b| (Arc::clone(&b.scene), b.clock.clone()))
+        })
         .ok_or_else(|| vm.new_runtime_error("the scene API is not bound in this interpreter"))?;
-    clock.call(vm, || call(&scene).map_err(|error| api_error(vm, error.kind(), &error.to_string())))
+    clock.call(vm, || {
+        call(&scene).map_err(|error| api_error(vm, error.kind(), &error.to_string()))
+    })
 }
 
 /// A scene exception of `kind` with `message`.
 fn api_error(vm: &VirtualMachine, kind: &str, message: &str) -> PyBaseExceptionRef {
     let class = BINDING.with(|b| {
         b.borrow().as_ref().and_then(|b| {
-            b.classes.iter().find(|(k, _)| *k == kind).or_else(|| b.classes.first()).map(|(_, c)| c.clone())
+            b.classes
+                .iter()
+                .find(|(k, _)| *k == kind)
+                .or_else(|| b.classes.first())
+                .map(|(_, c)| c.clone())
         })
     });
     match class {
@@ -343,11 +399,7 @@ impl Video {
 impl Constructor for Video {
     type Args = FuncArgs;
 
-    fn py_new(
-        _cls: &Py<PyType>,
-        _args: FuncArgs,
-        vm: &VirtualMachine,
-    ) -> PyResult<Self> {
+    fn py_new(_cls: &Py<PyType>, _args: FuncArgs, vm: &VirtualMachine) -> PyResult<Self> {
         Err(misuse(
             vm,
             "Video() cannot be created; use the `video` given to execute_command",
@@ -413,11 +465,7 @@ impl SceneObject {
 impl Constructor for SceneObject {
     type Args = FuncArgs;
 
-    fn py_new(
-        _cls: &Py<PyType>,
-        _args: FuncArgs,
-        vm: &VirtualMachine,
-    ) -> PyResult<Self> {
+    fn py_new(_cls: &Py<PyType>, _args: FuncArgs, vm: &VirtualMachine) -> PyResult<Self> {
         Err(misuse(
             vm,
             "SceneObject() cannot be created; use scene.find(name)",
@@ -483,11 +531,7 @@ const DYNAMIC_ACTIONS: [&str; 8] = [
 impl Constructor for SoftScene {
     type Args = FuncArgs;
 
-    fn py_new(
-        _cls: &Py<PyType>,
-        args: FuncArgs,
-        vm: &VirtualMachine,
-    ) -> PyResult<Self> {
+    fn py_new(_cls: &Py<PyType>, args: FuncArgs, vm: &VirtualMachine) -> PyResult<Self> {
         let none = vm.ctx.none();
         let names = [
             "video",
@@ -771,11 +815,7 @@ pub(crate) struct SceneEventObject {
 impl Constructor for SceneEventObject {
     type Args = FuncArgs;
 
-    fn py_new(
-        _cls: &Py<PyType>,
-        _args: FuncArgs,
-        vm: &VirtualMachine,
-    ) -> PyResult<Self> {
+    fn py_new(_cls: &Py<PyType>, _args: FuncArgs, vm: &VirtualMachine) -> PyResult<Self> {
         Err(misuse(
             vm,
             "SceneEvent() cannot be created; use scene.register_event(objects, action, attribute)",
@@ -810,11 +850,7 @@ pub(crate) struct SoftDynamicScene {
 impl Constructor for SoftDynamicScene {
     type Args = FuncArgs;
 
-    fn py_new(
-        _cls: &Py<PyType>,
-        _args: FuncArgs,
-        vm: &VirtualMachine,
-    ) -> PyResult<Self> {
+    fn py_new(_cls: &Py<PyType>, _args: FuncArgs, vm: &VirtualMachine) -> PyResult<Self> {
         Err(misuse(
             vm,
             "SoftDynamicScene() cannot be created; use scene.init_dyn_simulation(event)",
@@ -896,15 +932,28 @@ mod tests {
 
     fn run(source: &str) -> Result<String, String> {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
-        let video = VideoFolder { scenario: Scenario::Rope, id: VideoId("0".into()), dir };
-        let mut host = SceneHost::new(VideoSpec::new(&video, PerceptionBackend::Annotation, DynamicsBackend::Annotation));
+        let video = VideoFolder {
+            scenario: Scenario::Rope,
+            id: VideoId("0".into()),
+            dir,
+        };
+        let mut host = SceneHost::new(VideoSpec::new(
+            &video,
+            PerceptionBackend::Annotation,
+            DynamicsBackend::Annotation,
+        ));
         let mut sandbox = Sandbox::new();
         let report = sandbox.run(&mut host, source, &Budgets::default());
         match report.outcome {
             Ok(value) => Ok(value.to_plain_json().to_string()),
-            Err(Error::ApiException { class_name, message, .. }) => {
-                Err(format!("{class_name}[{}]: {message}", scene_error_kind(&class_name).unwrap_or("-")))
-            }
+            Err(Error::ApiException {
+                class_name,
+                message,
+                ..
+            }) => Err(format!(
+                "{class_name}[{}]: {message}",
+                scene_error_kind(&class_name).unwrap_or("-")
+            )),
             Err(other) => Err(format!("{}: {other}", other.kind())),
         }
     }

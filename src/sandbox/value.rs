@@ -69,14 +69,19 @@ impl SandboxValue {
             SandboxValue::Bool(flag) => Value::Bool(*flag),
             SandboxValue::Int(IntValue::Small(number)) => Value::from(*number),
             SandboxValue::Int(IntValue::Big(digits)) => Value::String(digits.clone()),
-            SandboxValue::Float(number) => serde_json::Number::from_f64(*number)
-                .map_or_else(|| Value::String(format!("{number}").to_lowercase()), Value::Number),
+            SandboxValue::Float(number) => serde_json::Number::from_f64(*number).map_or_else(
+                || Value::String(format!("{number}").to_lowercase()),
+                Value::Number,
+            ),
             SandboxValue::Str(text) => Value::String(text.clone()),
             SandboxValue::List(items) | SandboxValue::Tuple(items) => {
                 Value::Array(items.iter().map(SandboxValue::to_plain_json).collect())
             }
             SandboxValue::Dict(entries) => Value::Object(
-                entries.iter().map(|(key, value)| (key.clone(), value.to_plain_json())).collect(),
+                entries
+                    .iter()
+                    .map(|(key, value)| (key.clone(), value.to_plain_json()))
+                    .collect(),
             ),
             SandboxValue::Object { type_name, repr } => {
                 serde_json::json!({ "type": type_name, "repr": repr })

@@ -2,3 +2,7 @@
 //! `contphy-eval` binary.
 
 mod architecture;
+mod cli;
+mod exec;
+mod pipeline;
+mod support;

@@ -1,0 +1,90 @@
+//! `exec`: the paper's rope example and a hand-written program per rope family, run through the
+//! sandbox worker on the real video, with answers derived by hand from its annotations
+//! (masses 0.2 / 0.25 / 0.15 kg; purple and green cubes share a rope group; a heavier purple
+//! cube turns the blue pulley anti-clockwise; a lighter one sends the green cube down).
+
+use serde_json::{Value, json};
+
+use crate::support::{contphy, demo, root, stderr, stdout};
+
+fn exec(program: &str, extra: &[&str]) -> (Option<i32>, Value, String) {
+    let video = demo().join("pulley_group/0");
+    let program = root().join("tests/fixtures/programs").join(program);
+    let mut args = vec![
+        "exec",
+        "--video",
+        video.to_str().unwrap(),
+        "--program",
+        program.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let output = contphy(&root(), &args);
+    let value: Value = serde_json::from_str(&stdout(&output)).unwrap_or(Value::Null);
+    (output.status.code(), value, stderr(&output))
+}
+
+#[test]
+fn family_programs_give_the_hand_derived_answers() {
+    let cases = [
+        ("paper_eg1.py", json!("yes"), "yes"),
+        ("mass.py", json!("yes"), "yes"),
+        (
+            "mass_other_group.py",
+            json!("can not answer"),
+            "can not answer",
+        ),
+        ("tension.py", json!("can not answer"), "can not answer"),
+        ("shape.py", json!(3), "3"),
+        ("color.py", json!(3), "3"),
+        ("existence.py", json!("yes"), "yes"),
+        ("counterfactual.py", json!("yes"), "yes"),
+        ("counterfactual_direction.py", json!("down"), "down"),
+        ("goal_driven.py", json!("yes"), "yes"),
+        ("predictive.py", json!("yes"), "yes"),
+        ("answer_global.py", json!(2), "2"),
+    ];
+    for (program, value, answer) in cases {
+        let (code, output, stderr) = exec(program, &[]);
+        assert_eq!(code, Some(0), "{program}: {stderr}");
+        assert_eq!(output["value"], value, "{program}: {output}");
+        assert_eq!(output["answer"], answer, "{program}: {output}");
+        assert_eq!(output["error"], Value::Null, "{program}: {output}");
+        assert_eq!(output["work"]["sim_runs"], 0, "{program}: {output}");
+    }
+}
+
+#[test]
+fn exec_scores_against_a_question_when_given_one() {
+    let questions = demo().join("pulley_group/0.json");
+    let (code, output, stderr) = exec(
+        "shape.py",
+        &[
+            "--questions",
+            questions.to_str().unwrap(),
+            "--question-id",
+            "0/shape/3",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    // Question 0/shape/3 of the demo file asks for solid pulleys: gold 3.
+    assert_eq!(output["gold"], "3", "{output}");
+    assert_eq!(output["correct"], true, "{output}");
+}
+
+#[test]
+fn failures_are_typed_with_their_stage_and_exit_1() {
+    let (code, output, _) = exec("misuse.py", &[]);
+    assert_eq!(code, Some(1));
+    assert_eq!(output["error"]["stage"], "scene_api", "{output}");
+    assert_eq!(output["error"]["kind"], "misuse", "{output}");
+    let message = output["error"]["message"].as_str().unwrap();
+    assert!(
+        message.contains("rope scenes have mass (cubes, spheres) and tension (ropes)"),
+        "{message}"
+    );
+
+    let (code, output, _) = exec("runaway.py", &["--program-timeout", "0.5"]);
+    assert_eq!(code, Some(1));
+    assert_eq!(output["error"]["stage"], "sandbox", "{output}");
+    assert_eq!(output["error"]["kind"], "timeout", "{output}");
+}
