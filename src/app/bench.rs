@@ -46,10 +46,10 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
             )
             .map_err(user_error)?;
             for (_, option) in question.units() {
-                if let Ok(source) = write_program(&question, option) {
-                    if !programs.iter().any(|(_, s)| *s == source) {
-                        programs.push((family.clone(), source));
-                    }
+                if let Ok(source) = write_program(&question, option)
+                    && !programs.iter().any(|(_, s)| *s == source)
+                {
+                    programs.push((family.clone(), source));
                 }
             }
         }
@@ -98,10 +98,10 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
     for (index, (family, _)) in programs.iter().enumerate() {
         let entry = by_family.entry(family.as_str()).or_default();
         entry.0.push(rust_times[index]);
-        if let Ok((_, _, times)) = &cpython {
-            if let Some(time) = times.get(index) {
-                entry.1.push(*time);
-            }
+        if let Ok((_, _, times)) = &cpython
+            && let Some(time) = times.get(index)
+        {
+            entry.1.push(*time);
         }
     }
     let rust_summary = TimeSummary::of(&rust_times);

@@ -35,7 +35,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     for source in sources {
         for question in source.questions {
             let key = (question.scenario, question.video_id.0.clone());
-            if !videos.contains_key(&key) {
+            if let std::collections::btree_map::Entry::Vacant(slot) = videos.entry(key) {
                 let folder = root.video(question.scenario, &question.video_id);
                 if !folder.outputs_json().is_file() {
                     return Err(AppError {
@@ -50,7 +50,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
                     });
                 }
                 let valid = read_validity(&folder.outputs_json()).user()?;
-                videos.insert(key, valid.then_some(folder));
+                slot.insert(valid.then_some(folder));
             }
             questions.push(question);
         }
@@ -174,7 +174,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
                     program,
                 }),
                 Err(error) => {
-                    immediate.push(failed_prediction(question, option, &unit, None, error))
+                    immediate.push(failed_prediction(question, option, &unit, None, error));
                 }
             }
         }
@@ -229,10 +229,10 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             if prediction.error.is_some() {
                 failed += 1;
             }
-            if write_error.is_none() {
-                if let Err(error) = writer.append(&prediction) {
-                    write_error = Some(error);
-                }
+            if write_error.is_none()
+                && let Err(error) = writer.append(&prediction)
+            {
+                write_error = Some(error);
             }
             progress.advance(failed);
             new_predictions.push(prediction);
@@ -309,11 +309,14 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
     (year, month, day)
 }
 
+/// Question files with their content hashes (`(path, blake3)`), as the manifest records them.
+type HashedFiles = Vec<(String, String)>;
+
 /// The question files of the run: `--questions`, or the sampled files of the split(s).
 fn load_questions(
     root: &DataRoot,
     settings: &RunSettings,
-) -> Result<(Vec<QuestionSource>, Vec<(String, String)>), AppError> {
+) -> Result<(Vec<QuestionSource>, HashedFiles), AppError> {
     let paths: Vec<(PathBuf, Option<Scenario>)> = if settings.questions.is_empty() {
         let scenarios = if settings.scenarios.is_empty() {
             root.scenarios()

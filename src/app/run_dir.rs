@@ -152,7 +152,7 @@ impl RunDir {
                     good_bytes += line.len() as u64 + 1;
                 }
                 Err(_) if line.iter().all(u8::is_ascii_whitespace) => {
-                    good_bytes += line.len() as u64 + 1
+                    good_bytes += line.len() as u64 + 1;
                 }
                 Err(_) if is_last => {
                     // A torn tail: truncate to the last complete line.

@@ -104,7 +104,7 @@ pub struct RunArgs {
     /// Which sampled split to evaluate when no --questions is given.
     #[arg(long, value_enum, default_value_t = SplitArg::Test)]
     split: SplitArg,
-    /// The run directory (default: runs/<date>-<time>).
+    /// The run directory (default: runs/DATE-TIME).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Continue the run in --out: finished units are kept, the rest are run.

@@ -71,7 +71,7 @@ pub enum DatasetError {
     },
     /// The scenario of a question file cannot be told from its name, folder or families.
     #[error(
-        "cannot tell the scenario of `{path}`: name it `<scenario>_<split>.json` (e.g. `pulley_group_test.json`) or put it in a scenario folder"
+        "cannot tell the scenario of `{path}`: name it `<scenario>_<split>.json` (e.g. `pulley_group_test.json`), put it in a scenario folder, or pass --scenario"
     )]
     UnknownScenario {
         /// The question file.

@@ -176,29 +176,28 @@ fn mass_change(title: &str) -> Option<(String, &'static str)> {
     Some((object, change))
 }
 
-/// A motion or rotation outcome: `(action, targets that count as "yes", negate)`.
+/// A motion or rotation outcome; no direction means "does not move / rotate".
 struct Outcome {
     action: &'static str,
     direction: Option<&'static str>,
 }
 
 fn outcome_test(outcome: &Outcome) -> String {
-    match outcome.direction {
-        Some(direction) => format!(
+    if let Some(direction) = outcome.direction {
+        format!(
             "dynamic_scene.happen(target, \"{}\", \"{direction}\")",
             outcome.action
-        ),
-        None => {
-            let (a, b) = if outcome.action == "motion" {
-                ("up", "down")
-            } else {
-                ("clockwise", "anti-clockwise")
-            };
-            format!(
-                "not (dynamic_scene.happen(target, \"{action}\", \"{a}\") or dynamic_scene.happen(target, \"{action}\", \"{b}\"))",
-                action = outcome.action
-            )
-        }
+        )
+    } else {
+        let (a, b) = if outcome.action == "motion" {
+            ("up", "down")
+        } else {
+            ("clockwise", "anti-clockwise")
+        };
+        format!(
+            "not (dynamic_scene.happen(target, \"{action}\", \"{a}\") or dynamic_scene.happen(target, \"{action}\", \"{b}\"))",
+            action = outcome.action
+        )
     }
 }
 

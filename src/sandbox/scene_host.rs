@@ -174,17 +174,14 @@ thread_local! {
 /// it fails only this program) and turns an `ApiError` into the matching scene exception.
 fn api_call<T>(
     vm: &VirtualMachine,
+    scene: &Scene,
     call: impl FnOnce(&Scene) -> Result<T, ApiError>,
 ) -> PyResult<T> {
-    let (scene, clock) = BINDING
-        .with(|b| {
-            b.borrow()
-                .as_ref()
-                .map(|b| (Arc::clone(&b.scene), b.clock.clone()))
-        })
+    let clock = BINDING
+        .with(|b| b.borrow().as_ref().map(|b| b.clock.clone()))
         .ok_or_else(|| vm.new_runtime_error("the scene API is not bound in this interpreter"))?;
     clock.call(vm, || {
-        call(&scene).map_err(|error| api_error(vm, error.kind(), &error.to_string()))
+        call(scene).map_err(|error| api_error(vm, error.kind(), &error.to_string()))
     })
 }
 
@@ -654,6 +651,7 @@ impl SoftScene {
     }
 
     #[pygetset]
+    #[expect(clippy::unused_self, reason = "a Python attribute of the instance")]
     fn all_event_actions(&self, vm: &VirtualMachine) -> PyObjectRef {
         string_list(vm, &EVENT_ACTIONS)
     }
@@ -669,7 +667,7 @@ impl SoftScene {
             "find",
             "object_name",
         )?;
-        let found = api_call(vm, |scene| {
+        let found = api_call(vm, &self.scene, |scene| {
             let ids = scene.find(&name)?;
             ids.into_iter()
                 .map(|id| scene.object(id).cloned())
@@ -698,7 +696,9 @@ impl SoftScene {
             "query_single",
             "object",
         )?;
-        api_call(vm, |scene| scene.query_single(&property, object))
+        api_call(vm, &self.scene, |scene| {
+            scene.query_single(&property, object)
+        })
     }
 
     /// `query_pair(property, object1, object2) -> (value1, value2)`.
@@ -708,19 +708,19 @@ impl SoftScene {
         args: FuncArgs,
         vm: &VirtualMachine,
     ) -> PyResult<(Option<f64>, Option<f64>)> {
-        query_pair_impl(args, vm, "query_pair")
+        query_pair_impl(&self.scene, args, vm, "query_pair")
     }
 
     /// `register_event(scene_objects, action, attribute) -> SceneEvent`.
     #[pymethod]
     fn register_event(&self, args: FuncArgs, vm: &VirtualMachine) -> PyResult<PyObjectRef> {
-        register_event_impl(args, vm, "register_event")
+        register_event_impl(&self.scene, args, vm, "register_event")
     }
 
     /// The paper's examples also call `event(...)`; same as `register_event`.
     #[pymethod]
     fn event(&self, args: FuncArgs, vm: &VirtualMachine) -> PyResult<PyObjectRef> {
-        register_event_impl(args, vm, "event")
+        register_event_impl(&self.scene, args, vm, "event")
     }
 
     /// `init_dyn_simulation(event) -> SoftDynamicScene`.
@@ -741,6 +741,7 @@ impl SoftScene {
 }
 
 fn query_pair_impl(
+    scene: &Scene,
     args: FuncArgs,
     vm: &VirtualMachine,
     function: &str,
@@ -765,10 +766,13 @@ fn query_pair_impl(
         function,
         "object2",
     )?;
-    api_call(vm, |scene| scene.query_pair(&property, first, second))
+    api_call(vm, scene, |scene| {
+        scene.query_pair(&property, first, second)
+    })
 }
 
 fn register_event_impl(
+    scene: &Scene,
     args: FuncArgs,
     vm: &VirtualMachine,
     function: &str,
@@ -799,7 +803,7 @@ fn register_event_impl(
             ),
         },
     };
-    let event = api_call(vm, |scene| {
+    let event = api_call(vm, scene, |scene| {
         scene.register_event(&objects, &action, &attribute, attribute_objects)
     })?;
     Ok(SceneEventObject { event }.into_ref(&vm.ctx).into())
@@ -875,6 +879,7 @@ impl SoftDynamicScene {
     }
 
     #[pygetset]
+    #[expect(clippy::unused_self, reason = "a Python attribute of the instance")]
     fn all_dyn_actions(&self, vm: &VirtualMachine) -> PyObjectRef {
         string_list(vm, &DYNAMIC_ACTIONS)
     }
@@ -906,7 +911,9 @@ impl SoftDynamicScene {
             },
         };
         let event = self.event.clone();
-        api_call(vm, |scene| scene.happen(&event, &objects, &action, &target))
+        api_call(vm, &self.scene, |scene| {
+            scene.happen(&event, &objects, &action, &target)
+        })
     }
 }
 
@@ -918,7 +925,10 @@ fn bool_to_yesno(value: PyObjectRef, vm: &VirtualMachine) -> PyResult<&'static s
 /// `query_both(property, object1, object2)`: the paper's listing calls it without a scene; it is
 /// `query_pair` on the program's video.
 fn query_both(args: FuncArgs, vm: &VirtualMachine) -> PyResult<(Option<f64>, Option<f64>)> {
-    query_pair_impl(args, vm, "query_both")
+    let scene = BINDING
+        .with(|b| b.borrow().as_ref().map(|b| Arc::clone(&b.scene)))
+        .ok_or_else(|| vm.new_runtime_error("the scene API is not bound in this interpreter"))?;
+    query_pair_impl(&scene, args, vm, "query_both")
 }
 
 #[cfg(test)]

@@ -16,6 +16,9 @@ use super::scene::{EventAction, Property, ScenarioBackend, SceneEvent, Target};
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name};
 
+/// The motion and rotation results of one dynamic scene (name → −1, 0, +1).
+type Outcomes<'a> = (&'a IndexMap<String, i8>, &'a IndexMap<String, i8>);
+
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
 
@@ -117,10 +120,7 @@ impl RopeBackend {
     }
 
     /// The results (motion, rotation) of the dynamic scene started by `event`.
-    fn results(
-        &self,
-        event: &SceneEvent,
-    ) -> Result<(&IndexMap<String, i8>, &IndexMap<String, i8>), ApiError> {
+    fn results(&self, event: &SceneEvent) -> Result<Outcomes<'_>, ApiError> {
         match event.action {
             EventAction::Simulate => Ok((
                 &self.annotation.result_motion,

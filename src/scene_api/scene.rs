@@ -81,6 +81,7 @@ pub struct WorkCounters {
 
 impl WorkCounters {
     /// `self - earlier`, field by field: the work done between two snapshots.
+    #[must_use]
     pub fn since(&self, earlier: &WorkCounters) -> WorkCounters {
         WorkCounters {
             annotation_loads: self
@@ -231,7 +232,7 @@ impl std::fmt::Debug for Scene {
         f.debug_struct("Scene")
             .field("spec", &self.spec)
             .field("loaded", &self.backend.get().is_some())
-            .finish()
+            .finish_non_exhaustive()
     }
 }
 

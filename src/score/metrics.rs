@@ -77,7 +77,6 @@ pub struct Scores {
     pub duplicate_units: u64,
 }
 
-#[derive(Default)]
 struct Accumulator {
     model: Tally,
     rnd: ExpectedTally,
@@ -87,14 +86,21 @@ struct Accumulator {
     missing_units: u64,
 }
 
-impl Accumulator {
-    fn new() -> Self {
+impl Default for Accumulator {
+    /// Empty; FRQ is complete until a question without a prior is added.
+    fn default() -> Self {
         Accumulator {
+            model: Tally::default(),
+            rnd: ExpectedTally::default(),
+            frq: Tally::default(),
             frq_complete: true,
-            ..Accumulator::default()
+            failed_units: BTreeMap::new(),
+            missing_units: 0,
         }
     }
+}
 
+impl Accumulator {
     fn finish(self, scenario: Scenario, category: Category, family: Option<String>) -> GroupScore {
         GroupScore {
             scenario,
@@ -259,7 +265,7 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
         add(
             categories
                 .entry((question.scenario, question.category))
-                .or_insert_with(Accumulator::new),
+                .or_default(),
             &result,
         );
         add(
@@ -269,7 +275,7 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
                     question.category,
                     question.family.clone(),
                 ))
-                .or_insert_with(Accumulator::new),
+                .or_default(),
             &result,
         );
     }
@@ -323,7 +329,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(i, t)| ChoiceOption {
-                letter: char::from(b'A' + i as u8),
+                letter: char::from(b'A' + u8::try_from(i).unwrap()),
                 text: format!("o{i}"),
                 correct: *t,
             })
@@ -396,8 +402,8 @@ mod tests {
             }
         );
         // RND: 5 options × 1/2; questions (1/2)^3 + (1/2)^2.
-        assert_eq!(counterfactual.rnd.options_correct, 2.5);
-        assert_eq!(counterfactual.rnd.questions_correct, 0.375);
+        assert!((counterfactual.rnd.options_correct - 2.5).abs() < 1e-12);
+        assert!((counterfactual.rnd.questions_correct - 0.375).abs() < 1e-12);
         assert_eq!(counterfactual.frq, None, "no train priors");
         let property = &scores.categories[0];
         assert_eq!(property.model.questions_correct, 0);

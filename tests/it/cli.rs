@@ -1,5 +1,7 @@
 //! The command line as a new user meets it: help text, and clear errors (exit 1) for bad input.
 
+use std::fmt::Write as _;
+
 use crate::support::{contphy, demo, root, stderr, stdout, temp_data_root};
 
 #[test]
@@ -83,7 +85,7 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
         assert!(stdout(&output).is_empty(), "{name}: errors go to stderr");
         let message = normalise(&stderr(&output), path);
         assert!(!message.contains("panicked"), "{name}: {message}");
-        transcript.push_str(&format!("## {name}\n{message}\n"));
+        let _ = writeln!(transcript, "## {name}\n{message}");
     }
     insta::assert_snapshot!("bad_input", transcript);
 }
@@ -104,7 +106,7 @@ fn usage_errors_exit_2() {
             "{args:?}: {}",
             stderr(&output)
         );
-        transcript.push_str(&format!("## {}\n{}\n", args.join(" "), stderr(&output)));
+        let _ = writeln!(transcript, "## {}\n{}", args.join(" "), stderr(&output));
     }
     insta::assert_snapshot!("usage_errors", transcript);
 }

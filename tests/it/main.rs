@@ -1,6 +1,11 @@
 //! Integration tests: the crate's modules working together, driven through the library and the
 //! `contphy-eval` binary.
 
+#![expect(
+    clippy::unwrap_used,
+    reason = "integration tests fail by panicking, helpers included"
+)]
+
 mod architecture;
 mod cli;
 mod exec;

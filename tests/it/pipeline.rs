@@ -105,7 +105,7 @@ fn two_runs_give_identical_predictions_and_results() {
             .map(|line| {
                 // Byte-level check: only the `_ms` fields may differ.
                 let mut value: serde_json::Map<String, Value> = serde_json::from_str(line).unwrap();
-                for (key, field) in value.iter_mut() {
+                for (key, field) in &mut value {
                     if key.ends_with("_ms") {
                         *field = Value::Null;
                     }

@@ -4,17 +4,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// The repository root.
-pub fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The demo data root (`eval/demo`).
-pub fn demo() -> PathBuf {
+pub(crate) fn demo() -> PathBuf {
     root().join("eval/demo")
 }
 
 /// Runs `contphy-eval` with `args` in `dir`.
-pub fn contphy(dir: &Path, args: &[&str]) -> Output {
+pub(crate) fn contphy(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_contphy-eval"))
         .args(args)
         .current_dir(dir)
@@ -23,30 +23,16 @@ pub fn contphy(dir: &Path, args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
-pub fn stdout(output: &Output) -> String {
+pub(crate) fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
-pub fn stderr(output: &Output) -> String {
+pub(crate) fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-/// Copies a folder tree.
-pub fn copy_tree(from: &Path, to: &Path) {
-    fs_err::create_dir_all(to).unwrap();
-    for entry in fs_err::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.path().is_dir() {
-            copy_tree(&entry.path(), &target);
-        } else {
-            fs_err::copy(entry.path(), &target).unwrap();
-        }
-    }
-}
-
 /// A temporary data root holding the real rope video (annotations only, no mp4s).
-pub fn temp_data_root() -> tempfile::TempDir {
+pub(crate) fn temp_data_root() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let video = dir.path().join("pulley_group/0");
     fs_err::create_dir_all(&video).unwrap();
@@ -57,7 +43,7 @@ pub fn temp_data_root() -> tempfile::TempDir {
 }
 
 /// `predictions.jsonl` with every `*_ms` field removed (the only fields allowed to differ).
-pub fn predictions_without_timings(run: &Path) -> Vec<serde_json::Value> {
+pub(crate) fn predictions_without_timings(run: &Path) -> Vec<serde_json::Value> {
     fs_err::read_to_string(run.join("predictions.jsonl"))
         .unwrap()
         .lines()
