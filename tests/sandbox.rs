@@ -409,17 +409,3 @@ fn a_missing_worker_binary_is_a_setup_error() {
     .unwrap_err();
     assert_eq!(error.kind(), "internal");
 }
-
-/// Not a test: prints the sandbox measurements as JSON. Run it from a release build:
-/// `cargo test --release --test sandbox -- --ignored --nocapture measure_sandbox`.
-#[test]
-#[ignore = "measurement, not a test; run in release with --ignored --nocapture"]
-fn measure_sandbox() {
-    let config = contphy_eval::sandbox::BenchConfig {
-        worker: Some(worker()),
-        ..contphy_eval::sandbox::BenchConfig::default()
-    };
-    let report = contphy_eval::sandbox::run_bench(&config).unwrap();
-    println!("{}", serde_json::to_string_pretty(&report).unwrap());
-    assert!(report.pool.is_some_and(|pool| pool.failures == 0));
-}

@@ -45,19 +45,20 @@
 //! # Ok::<(), contphy_eval::sandbox::Error>(())
 //! ```
 //!
-//! Registering a host (the binary's `main`, before any argument parsing; `scene_api::SceneHost`
-//! stands for the scene-API host written against [`Host`]):
+//! Registering a host (the binary's `main`, before any argument parsing):
 //!
-//! ```ignore
-//! if std::env::args_os().nth(1).is_some_and(|argument| argument == sandbox::WORKER_ARGUMENT) {
-//!     return sandbox::worker_main(|| {
-//!         let mut registry = sandbox::HostRegistry::with_builtin_hosts();
-//!         registry.register("scene", |config| {
-//!             scene_api::SceneHost::from_config(config)
-//!                 .map(|host| Box::new(host) as Box<dyn sandbox::Host>)
+//! ```no_run
+//! use contphy_eval::sandbox::{self, HostRegistry, SceneHost};
+//!
+//! fn main() -> std::process::ExitCode {
+//!     if std::env::args_os().nth(1).is_some_and(|argument| argument == sandbox::WORKER_ARGUMENT) {
+//!         return sandbox::worker_main(|| {
+//!             let mut registry = HostRegistry::with_builtin_hosts();
+//!             SceneHost::register(&mut registry);
+//!             registry
 //!         });
-//!         registry
-//!     });
+//!     }
+//!     std::process::ExitCode::SUCCESS
 //! }
 //! ```
 
