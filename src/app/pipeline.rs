@@ -106,18 +106,10 @@ pub(crate) fn sandbox_budgets(budgets: Budgets) -> sandbox::Budgets {
     }
 }
 
+/// A budget in seconds as whole milliseconds, at least 1 (a zero or invalid budget would stop
+/// every program at once).
 fn seconds_to_ms(seconds: f64) -> u64 {
-    if seconds.is_finite() && seconds > 0.0 {
-        #[expect(
-            clippy::cast_possible_truncation,
-            clippy::cast_sign_loss,
-            reason = "positive, finite, rounded"
-        )]
-        let ms = (seconds * 1000.0).round().min(u64::MAX as f64) as u64;
-        ms.max(1)
-    } else {
-        1
-    }
+    whole_ms(seconds * 1000.0).max(1)
 }
 
 /// Starts a pool of `jobs` workers (this binary) with the run's memory limit.
@@ -141,18 +133,19 @@ pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> Execu
         unit,
         result: outcome,
         work,
-        own_ms: round_ms(report.own_ms),
-        api_ms: round_ms(report.api_ms),
-        wall_ms: round_ms(result.wall_ms),
+        own_ms: whole_ms(report.own_ms),
+        api_ms: whole_ms(report.api_ms),
+        wall_ms: whole_ms(result.wall_ms),
     }
 }
 
-fn round_ms(ms: f64) -> u64 {
+/// Milliseconds rounded to whole ones; NaN and negative times become 0.
+fn whole_ms(ms: f64) -> u64 {
     if ms.is_finite() && ms > 0.0 {
         #[expect(
             clippy::cast_possible_truncation,
             clippy::cast_sign_loss,
-            reason = "positive, finite, rounded"
+            reason = "positive, finite, rounded, clamped to the u64 range"
         )]
         let rounded = ms.round().min(u64::MAX as f64) as u64;
         rounded

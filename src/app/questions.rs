@@ -1,7 +1,6 @@
 //! `questions`: the rope question engine over a data root, writing per-video files and the
 //! sampled train/val/test files.
 
-use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::process::ExitCode;
 
@@ -59,7 +58,8 @@ pub(crate) fn questions(settings: &QuestionsSettings) -> Result<ExitCode, AppErr
         dynamics_per_video: settings.dynamics_per_video,
     };
     let splits = sample_and_split(&per_video, &config, settings.seed);
-    let mut family_counts: BTreeMap<String, usize> = BTreeMap::new();
+    // Families in the engine's template order.
+    let mut family_counts: indexmap::IndexMap<String, usize> = indexmap::IndexMap::new();
     for questions in &per_video {
         for (family, records) in &questions.question_dict {
             *family_counts.entry(family.clone()).or_insert(0) += records.len();

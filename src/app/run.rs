@@ -124,6 +124,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let mut manifest = Manifest {
         tool: "contphy-eval".to_string(),
         tool_version: env!("CARGO_PKG_VERSION").to_string(),
+        git_revision: option_env!("CONTPHY_GIT_REVISION").map(str::to_string),
         identity,
         data_root: settings.data.display().to_string(),
         questions: questions.len(),

@@ -48,6 +48,8 @@ pub(crate) struct Manifest {
     pub(crate) tool: String,
     /// The crate version.
     pub(crate) tool_version: String,
+    /// The git revision the tool was built from, when known.
+    pub(crate) git_revision: Option<String>,
     /// The settings that determine results.
     pub(crate) identity: RunIdentity,
     /// The data root as given.

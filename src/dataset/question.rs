@@ -222,6 +222,26 @@ pub struct QuestionRecord {
     pub extra: IndexMap<String, Value>,
 }
 
+impl QuestionRecord {
+    /// A record with the four required fields and nothing else.
+    pub fn new(question: &str, answer: &str, family: &str, answer_type: &str) -> QuestionRecord {
+        QuestionRecord {
+            question: question.to_string(),
+            answer: answer.to_string(),
+            question_family: family.to_string(),
+            positive: Vec::new(),
+            negative: Vec::new(),
+            program: None,
+            answer_type: answer_type.to_string(),
+            qtype: None,
+            video_id: None,
+            question_id: None,
+            split: None,
+            extra: IndexMap::new(),
+        }
+    }
+}
+
 /// One lettered option of a choice question.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ChoiceOption {
@@ -419,20 +439,7 @@ mod tests {
     use super::*;
 
     fn record(question: &str, answer: &str, family: &str, answer_type: &str) -> QuestionRecord {
-        QuestionRecord {
-            question: question.to_string(),
-            answer: answer.to_string(),
-            question_family: family.to_string(),
-            positive: vec![],
-            negative: vec![],
-            program: None,
-            answer_type: answer_type.to_string(),
-            qtype: None,
-            video_id: None,
-            question_id: None,
-            split: None,
-            extra: IndexMap::new(),
-        }
+        QuestionRecord::new(question, answer, family, answer_type)
     }
 
     fn parse(record: QuestionRecord) -> Result<Question, String> {

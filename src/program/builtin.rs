@@ -327,20 +327,7 @@ mod tests {
     use crate::dataset::{QuestionId, QuestionRecord, VideoId};
 
     fn question(text: &str, answer: &str, family: &str, answer_type: &str) -> Question {
-        let record = QuestionRecord {
-            question: text.to_string(),
-            answer: answer.to_string(),
-            question_family: family.to_string(),
-            positive: vec![],
-            negative: vec![],
-            program: None,
-            answer_type: answer_type.to_string(),
-            qtype: None,
-            video_id: None,
-            question_id: None,
-            split: None,
-            extra: indexmap::IndexMap::new(),
-        };
+        let record = QuestionRecord::new(text, answer, family, answer_type);
         Question::from_record(
             QuestionId("q".into()),
             VideoId("0".into()),
