@@ -1,19 +1,40 @@
 //! `score RUN...` (re-score saved runs into one leaderboard) and `cache ls`.
 
+use std::collections::BTreeSet;
 use std::io::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+use serde_json::json;
+
 use super::error::{AppError, Classify as _, user_error};
-use super::run_dir::RunDir;
+use super::run_dir::{RunDir, RunIdentity};
 use super::settings::{CacheSettings, ScoreSettings};
 use crate::program::ProgramCache;
 use crate::report::render_leaderboard;
-use crate::score::score;
+use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, score};
+use crate::util::canonical_json;
+
+/// One loaded run directory.
+struct LoadedRun {
+    dir: PathBuf,
+    name: String,
+    identity: Option<RunIdentity>,
+    questions: RunQuestions,
+    predictions: Vec<Prediction>,
+}
+
+/// A leaderboard column: one run, or the complete set of shards of one sharded run.
+struct Column {
+    name: String,
+    dirs: Vec<PathBuf>,
+    questions: Vec<EvalQuestion>,
+    priors: Priors,
+    predictions: Vec<Prediction>,
+}
 
 pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError> {
-    let mut runs = Vec::new();
-    let mut question_sets = Vec::new();
-    let mut notes = Vec::new();
+    let mut loaded = Vec::new();
     for dir in &settings.runs {
         let run = RunDir::new(dir);
         if !run.questions_path().is_file() {
@@ -22,46 +43,128 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
                 dir.display()
             )));
         }
-        let questions = run.read_questions()?;
-        let predictions = run.read_predictions()?;
-        let scores = score(&questions.questions, &predictions, &questions.priors);
+        let identity = if run.manifest_path().is_file() {
+            Some(run.read_manifest()?.identity)
+        } else {
+            None
+        };
+        loaded.push(LoadedRun {
+            dir: dir.clone(),
+            name: dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            identity,
+            questions: run.read_questions()?,
+            predictions: run.read_predictions()?,
+        });
+    }
+    let mut notes = Vec::new();
+    let columns = merge_shards(loaded, &mut notes);
+    let mut scored = Vec::with_capacity(columns.len());
+    for column in &columns {
+        let scores = score(&column.questions, &column.predictions, &column.priors);
+        let label = column.dirs.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", ");
         if scores.missing_units > 0 {
             notes.push(format!(
-                "{}: {} of {} units have no prediction (an unfinished run?); they count as wrong",
-                dir.display(),
-                scores.missing_units,
-                scores.units
+                "{label}: {} of {} units have no prediction (an unfinished run?); they count as wrong",
+                scores.missing_units, scores.units
             ));
         }
         if scores.unknown_units > 0 || scores.duplicate_units > 0 {
             notes.push(format!(
-                "{}: {} predictions for unknown units and {} duplicates were ignored",
-                dir.display(),
-                scores.unknown_units,
-                scores.duplicate_units
+                "{label}: {} predictions for unknown units and {} duplicates were ignored",
+                scores.unknown_units, scores.duplicate_units
             ));
         }
-        let ids: Vec<String> = questions.questions.iter().map(|q| q.id.clone()).collect();
-        question_sets.push(ids);
-        let name = dir.file_name().map_or_else(
-            || dir.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        runs.push((name, scores));
+        scored.push((column.name.clone(), scores));
     }
+    let question_sets: Vec<BTreeSet<&str>> =
+        columns.iter().map(|c| c.questions.iter().map(|q| q.id.as_str()).collect()).collect();
     if question_sets.windows(2).any(|pair| pair[0] != pair[1]) {
-        notes.push(
-            "the runs evaluated different questions; RND and FRQ are those of the first run"
-                .to_string(),
-        );
+        notes.push("the runs evaluated different questions; RND and FRQ are those of the first run".to_string());
     }
     let mut stdout = std::io::stdout().lock();
-    let _ = write!(stdout, "{}", render_leaderboard(&runs));
+    if settings.json {
+        let runs: Vec<serde_json::Value> = columns
+            .iter()
+            .zip(&scored)
+            .map(|(column, (name, scores))| {
+                json!({
+                    "name": name,
+                    "dirs": column.dirs.iter().map(|d| d.display().to_string()).collect::<Vec<_>>(),
+                    "scores": scores,
+                })
+            })
+            .collect();
+        let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&json!({ "runs": runs })).unwrap_or_default());
+    } else {
+        let _ = write!(stdout, "{}", render_leaderboard(&scored));
+    }
     let mut stderr = std::io::stderr().lock();
     for note in notes {
         let _ = writeln!(stderr, "note: {note}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Groups the shards of one run (same settings and data, shards `0..N` of `N`, all present) into
+/// one column; everything else stays a column of its own. Scores are sums over questions, so a
+/// merged column scores exactly as the unsharded run would.
+fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
+    let single = |run: LoadedRun| Column {
+        name: run.name,
+        dirs: vec![run.dir],
+        questions: run.questions.questions,
+        priors: run.questions.priors,
+        predictions: run.predictions,
+    };
+    // Group key: the identity without its shard, as canonical JSON.
+    let mut groups: Vec<(String, usize, Vec<LoadedRun>)> = Vec::new();
+    let mut columns: Vec<(usize, Column)> = Vec::new();
+    for (position, run) in runs.into_iter().enumerate() {
+        match run.identity.as_ref().and_then(|identity| identity.shard.map(|shard| (identity, shard))) {
+            Some((identity, _)) => {
+                let mut unsharded = identity.clone();
+                unsharded.shard = None;
+                let key = serde_json::to_value(&unsharded).map(|v| canonical_json(&v)).unwrap_or_default();
+                match groups.iter_mut().find(|(k, _, _)| *k == key) {
+                    Some((_, _, members)) => members.push(run),
+                    None => groups.push((key, position, vec![run])),
+                }
+            }
+            None => columns.push((position, single(run))),
+        }
+    }
+    for (_, position, mut members) in groups {
+        let count = members.first().and_then(|m| m.identity.as_ref()).and_then(|i| i.shard).map_or(0, |(_, n)| n);
+        members.sort_by_key(|m| m.identity.as_ref().and_then(|i| i.shard).map_or(usize::MAX, |(i, _)| i));
+        let indices: Vec<usize> = members.iter().filter_map(|m| m.identity.as_ref().and_then(|i| i.shard)).map(|(i, _)| i).collect();
+        let complete = indices == (0..count).collect::<Vec<_>>()
+            && members.iter().all(|m| m.identity.as_ref().and_then(|i| i.shard).is_some_and(|(_, n)| n == count));
+        if !complete {
+            notes.push(format!(
+                "shards {} of a {count}-shard run are not a complete set (0..{count}); scored separately",
+                indices.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")
+            ));
+            for (offset, member) in members.into_iter().enumerate() {
+                columns.push((position + offset, single(member)));
+            }
+            continue;
+        }
+        let parent = members.first().and_then(|m| m.dir.parent().and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()));
+        let name = match parent {
+            Some(parent) if !parent.is_empty() => format!("{parent} ({count} shards)"),
+            _ => format!("{} ({count} shards)", members.first().map_or("run", |m| m.name.as_str())),
+        };
+        let mut column = Column { name, dirs: Vec::new(), questions: Vec::new(), priors: Priors::default(), predictions: Vec::new() };
+        for member in members {
+            column.dirs.push(member.dir);
+            column.priors = member.questions.priors;
+            column.questions.extend(member.questions.questions);
+            column.predictions.extend(member.predictions);
+        }
+        columns.push((position, column));
+    }
+    columns.sort_by_key(|(position, _)| *position);
+    columns.into_iter().map(|(_, column)| column).collect()
 }
 
 pub(crate) fn cache_list(settings: &CacheSettings) -> Result<ExitCode, AppError> {

@@ -123,6 +123,8 @@ pub struct QuestionsSettings {
 pub struct ScoreSettings {
     /// Run directories.
     pub runs: Vec<PathBuf>,
+    /// JSON instead of a table.
+    pub json: bool,
 }
 
 /// `cache ls` settings.

@@ -203,9 +203,13 @@ pub struct QuestionsArgs {
 /// `score` arguments.
 #[derive(Debug, Args)]
 pub struct ScoreArgs {
-    /// Run directories to score.
+    /// Run directories to score. The shards of one sharded run (`--shard I/N`, same settings)
+    /// are merged into one column.
     #[arg(value_name = "RUN", required = true)]
     runs: Vec<PathBuf>,
+    /// Print the scores as JSON instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 /// `cache` subcommands.
@@ -310,7 +314,10 @@ impl Cli {
                 fact_per_video: args.fact_per_video,
                 dynamics_per_video: args.dynamics_per_video,
             }),
-            Some(Command::Score(args)) => Request::Score(ScoreSettings { runs: args.runs }),
+            Some(Command::Score(args)) => Request::Score(ScoreSettings {
+                runs: args.runs,
+                json: args.json,
+            }),
             Some(Command::Cache(CacheCommand::Ls { cache })) => {
                 Request::CacheList(CacheSettings { cache })
             }

@@ -10,4 +10,5 @@ mod architecture;
 mod cli;
 mod exec;
 mod pipeline;
+mod shards;
 mod support;
