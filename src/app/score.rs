@@ -50,7 +50,10 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
         };
         loaded.push(LoadedRun {
             dir: dir.clone(),
-            name: dir.file_name().map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            name: dir.file_name().map_or_else(
+                || dir.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
             identity,
             questions: run.read_questions()?,
             predictions: run.read_predictions()?,
@@ -61,7 +64,12 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
     let mut scored = Vec::with_capacity(columns.len());
     for column in &columns {
         let scores = score(&column.questions, &column.predictions, &column.priors);
-        let label = column.dirs.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", ");
+        let label = column
+            .dirs
+            .iter()
+            .map(|d| d.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
         if scores.missing_units > 0 {
             notes.push(format!(
                 "{label}: {} of {} units have no prediction (an unfinished run?); they count as wrong",
@@ -76,10 +84,15 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
         }
         scored.push((column.name.clone(), scores));
     }
-    let question_sets: Vec<BTreeSet<&str>> =
-        columns.iter().map(|c| c.questions.iter().map(|q| q.id.as_str()).collect()).collect();
+    let question_sets: Vec<BTreeSet<&str>> = columns
+        .iter()
+        .map(|c| c.questions.iter().map(|q| q.id.as_str()).collect())
+        .collect();
     if question_sets.windows(2).any(|pair| pair[0] != pair[1]) {
-        notes.push("the runs evaluated different questions; RND and FRQ are those of the first run".to_string());
+        notes.push(
+            "the runs evaluated different questions; RND and FRQ are those of the first run"
+                .to_string(),
+        );
     }
     let mut stdout = std::io::stdout().lock();
     if settings.json {
@@ -94,7 +107,11 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
                 })
             })
             .collect();
-        let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&json!({ "runs": runs })).unwrap_or_default());
+        let _ = writeln!(
+            stdout,
+            "{}",
+            serde_json::to_string_pretty(&json!({ "runs": runs })).unwrap_or_default()
+        );
     } else {
         let _ = write!(stdout, "{}", render_leaderboard(&scored));
     }
@@ -120,11 +137,17 @@ fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
     let mut groups: Vec<(String, usize, Vec<LoadedRun>)> = Vec::new();
     let mut columns: Vec<(usize, Column)> = Vec::new();
     for (position, run) in runs.into_iter().enumerate() {
-        match run.identity.as_ref().and_then(|identity| identity.shard.map(|shard| (identity, shard))) {
+        match run
+            .identity
+            .as_ref()
+            .and_then(|identity| identity.shard.map(|shard| (identity, shard)))
+        {
             Some((identity, _)) => {
                 let mut unsharded = identity.clone();
                 unsharded.shard = None;
-                let key = serde_json::to_value(&unsharded).map(|v| canonical_json(&v)).unwrap_or_default();
+                let key = serde_json::to_value(&unsharded)
+                    .map(|v| canonical_json(&v))
+                    .unwrap_or_default();
                 match groups.iter_mut().find(|(k, _, _)| *k == key) {
                     Some((_, _, members)) => members.push(run),
                     None => groups.push((key, position, vec![run])),
@@ -134,11 +157,29 @@ fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
         }
     }
     for (_, position, mut members) in groups {
-        let count = members.first().and_then(|m| m.identity.as_ref()).and_then(|i| i.shard).map_or(0, |(_, n)| n);
-        members.sort_by_key(|m| m.identity.as_ref().and_then(|i| i.shard).map_or(usize::MAX, |(i, _)| i));
-        let indices: Vec<usize> = members.iter().filter_map(|m| m.identity.as_ref().and_then(|i| i.shard)).map(|(i, _)| i).collect();
+        let count = members
+            .first()
+            .and_then(|m| m.identity.as_ref())
+            .and_then(|i| i.shard)
+            .map_or(0, |(_, n)| n);
+        members.sort_by_key(|m| {
+            m.identity
+                .as_ref()
+                .and_then(|i| i.shard)
+                .map_or(usize::MAX, |(i, _)| i)
+        });
+        let indices: Vec<usize> = members
+            .iter()
+            .filter_map(|m| m.identity.as_ref().and_then(|i| i.shard))
+            .map(|(i, _)| i)
+            .collect();
         let complete = indices == (0..count).collect::<Vec<_>>()
-            && members.iter().all(|m| m.identity.as_ref().and_then(|i| i.shard).is_some_and(|(_, n)| n == count));
+            && members.iter().all(|m| {
+                m.identity
+                    .as_ref()
+                    .and_then(|i| i.shard)
+                    .is_some_and(|(_, n)| n == count)
+            });
         if !complete {
             notes.push(format!(
                 "shards {} of a {count}-shard run are not a complete set (0..{count}); scored separately",
@@ -149,12 +190,26 @@ fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
             }
             continue;
         }
-        let parent = members.first().and_then(|m| m.dir.parent().and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()));
+        let parent = members.first().and_then(|m| {
+            m.dir
+                .parent()
+                .and_then(|p| p.file_name())
+                .map(|n| n.to_string_lossy().into_owned())
+        });
         let name = match parent {
             Some(parent) if !parent.is_empty() => format!("{parent} ({count} shards)"),
-            _ => format!("{} ({count} shards)", members.first().map_or("run", |m| m.name.as_str())),
+            _ => format!(
+                "{} ({count} shards)",
+                members.first().map_or("run", |m| m.name.as_str())
+            ),
         };
-        let mut column = Column { name, dirs: Vec::new(), questions: Vec::new(), priors: Priors::default(), predictions: Vec::new() };
+        let mut column = Column {
+            name,
+            dirs: Vec::new(),
+            questions: Vec::new(),
+            priors: Priors::default(),
+            predictions: Vec::new(),
+        };
         for member in members {
             column.dirs.push(member.dir);
             column.priors = member.questions.priors;

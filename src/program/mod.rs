@@ -7,8 +7,10 @@
 
 pub mod builtin;
 mod cache;
+mod extract;
 
 pub use cache::{CacheEntry, CacheError, ProgramCache, cache_key};
+pub use extract::{ExtractError, extract_program};
 
 use serde::{Deserialize, Serialize};
 
