@@ -23,6 +23,11 @@ pub enum AnswerError {
     /// The program returned `None`.
     #[error("the program returned None")]
     NoneValue,
+    /// A per-question program for a choice question did not return option letters.
+    #[error(
+        "a choice question's program must return the letters of the correct options (e.g. \"A C\"), got {0}"
+    )]
+    NotLetters(String),
     /// A value that cannot be an answer (a list, an object...).
     #[error("the program returned {0}, which is not an answer (expected text, a number or yes/no)")]
     NotAnAnswer(String),
@@ -33,6 +38,7 @@ impl AnswerError {
     pub fn kind(&self) -> &'static str {
         match self {
             AnswerError::NotYesNo(_) => "not_yes_no",
+            AnswerError::NotLetters(_) => "not_letters",
             AnswerError::NoneValue => "none",
             AnswerError::NotAnAnswer(_) => "not_an_answer",
         }
@@ -103,6 +109,50 @@ fn number_text(number: &serde_json::Number) -> String {
     }
 }
 
+/// The option letters a per-question program chose: `"A C"`, `"A, C"`, `"AC"`, `["A", "C"]` or
+/// `"none"` (no option). Letters must name existing options.
+pub fn interpret_letters(value: &Value, letters: &[char]) -> Result<Vec<char>, AnswerError> {
+    let bad = || AnswerError::NotLetters(describe(value));
+    let mut chosen = Vec::new();
+    let mut push = |text: &str| -> Result<(), AnswerError> {
+        for token in text
+            .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+            .filter(|t| !t.is_empty())
+        {
+            let token = token.trim_end_matches(['.', ')']);
+            if token.eq_ignore_ascii_case("none") {
+                continue;
+            }
+            // "AC" is two letters; any other character makes the value not a letter list.
+            for c in token.chars() {
+                let upper = c.to_ascii_uppercase();
+                if !letters.contains(&upper) {
+                    return Err(bad());
+                }
+                if !chosen.contains(&upper) {
+                    chosen.push(upper);
+                }
+            }
+        }
+        Ok(())
+    };
+    match value {
+        Value::String(text) => push(text)?,
+        Value::Array(items) => {
+            for item in items {
+                match item {
+                    Value::String(text) => push(text)?,
+                    _ => return Err(bad()),
+                }
+            }
+        }
+        Value::Null => return Err(AnswerError::NoneValue),
+        _ => return Err(bad()),
+    }
+    chosen.sort_unstable();
+    Ok(chosen)
+}
+
 /// Whether a unit's answer is right: for an option, its yes/no matches the option's gold truth;
 /// otherwise the text equals the gold answer.
 pub fn is_correct(answer: &str, gold_answer: &str, option: Option<&ChoiceOption>) -> bool {
@@ -141,6 +191,33 @@ mod tests {
             interpret(&json!([1, 2]), None).unwrap_err().kind(),
             "not_an_answer"
         );
+    }
+
+    #[test]
+    fn per_question_letters_parse() {
+        let letters = ['A', 'B', 'C', 'D'];
+        let cases = [
+            (json!("A C"), vec!['A', 'C']),
+            (json!("c, a"), vec!['A', 'C']),
+            (json!("BD"), vec!['B', 'D']),
+            (json!(["D", "A"]), vec!['A', 'D']),
+            (json!("none"), vec![]),
+            (json!("A."), vec!['A']),
+        ];
+        for (value, expected) in cases {
+            assert_eq!(
+                interpret_letters(&value, &letters).unwrap(),
+                expected,
+                "{value}"
+            );
+        }
+        for bad in [json!("E"), json!("yes"), json!(3), json!(["A", 1])] {
+            assert_eq!(
+                interpret_letters(&bad, &letters).unwrap_err().kind(),
+                "not_letters",
+                "{bad}"
+            );
+        }
     }
 
     #[test]
