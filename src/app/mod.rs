@@ -18,8 +18,8 @@ mod settings;
 
 pub use error::{AppError, ErrorClass};
 pub use settings::{
-    BenchSettings, Budgets, CacheSettings, ExecSettings, QuestionsSettings, Request, RunSettings,
-    ScoreSettings, SplitSelection,
+    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
+    QuestionsSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 
 use std::io::Write as _;
@@ -33,6 +33,8 @@ pub fn execute(request: Request) -> ExitCode {
         Request::Questions(settings) => questions::questions(&settings),
         Request::Score(settings) => score::score_runs(&settings),
         Request::CacheList(settings) => score::cache_list(&settings),
+        Request::CacheExport(settings) => score::cache_export(&settings),
+        Request::CacheImport(settings) => score::cache_import(&settings),
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
     };
     match result {

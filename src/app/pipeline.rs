@@ -79,6 +79,7 @@ pub(crate) fn finish_unit(
         family: question.family.0.clone(),
         video_id: question.video_id.0.clone(),
         program_hash: Some(program.hash()),
+        program_key: program.key.clone(),
         program_origin: Some(origin_name(program.origin).to_string()),
         value,
         answer,

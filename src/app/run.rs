@@ -432,6 +432,7 @@ fn obtain_program(
                 Some(entry) => Ok(Program {
                     source: entry.program,
                     origin: ProgramOrigin::Cache,
+                    key: Some(key),
                 }),
                 None => Err(program_error(
                     "cache_miss",
@@ -449,7 +450,7 @@ fn obtain_program(
     if let Some(cache) = cache {
         cache
             .put(CacheEntry {
-                key,
+                key: key.clone(),
                 key_material,
                 program: source.clone(),
                 raw_completion: None,
@@ -462,6 +463,7 @@ fn obtain_program(
     Ok(Ok(Program {
         source,
         origin: ProgramOrigin::Builtin,
+        key: Some(key),
     }))
 }
 
@@ -488,6 +490,7 @@ pub(super) fn failed_prediction(
         family: question.family.0.clone(),
         video_id: question.video_id.0.clone(),
         program_hash: program.map(Program::hash),
+        program_key: program.and_then(|p| p.key.clone()),
         program_origin: program.map(|p| origin_name(p.origin).to_string()),
         value: None,
         answer: None,

@@ -9,8 +9,8 @@ use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
 use super::run_dir::{RunDir, RunIdentity};
-use super::settings::{CacheSettings, ScoreSettings};
-use crate::program::ProgramCache;
+use super::settings::{CacheExportSettings, CacheImportSettings, CacheSettings, ScoreSettings};
+use crate::program::{CacheEntry, ProgramCache, cache_key};
 use crate::report::render_leaderboard;
 use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, score};
 use crate::util::canonical_json;
@@ -249,5 +249,85 @@ pub(crate) fn cache_list(settings: &CacheSettings) -> Result<ExitCode, AppError>
         );
     }
     let _ = writeln!(stdout, "\n{} programs", entries.len());
+    Ok(ExitCode::SUCCESS)
+}
+
+pub(crate) fn cache_export(settings: &CacheExportSettings) -> Result<ExitCode, AppError> {
+    let run = RunDir::new(&settings.run);
+    if !run.predictions_path().is_file() {
+        return Err(user_error(format!(
+            "`{}` is not a run directory (no `predictions.jsonl`)",
+            settings.run.display()
+        )));
+    }
+    let cache = ProgramCache::new(&settings.cache);
+    let mut keys: Vec<String> = Vec::new();
+    for prediction in run.read_predictions()? {
+        if let Some(key) = prediction.program_key.filter(|key| !keys.contains(key)) {
+            keys.push(key);
+        }
+    }
+    let mut lines = String::new();
+    let mut missing = 0;
+    for key in &keys {
+        match cache.get(key).user()? {
+            Some(entry) => {
+                lines.push_str(&serde_json::to_string(&entry).internal()?);
+                lines.push('\n');
+            }
+            None => missing += 1,
+        }
+    }
+    match &settings.out {
+        Some(path) => crate::util::write_atomic(path, lines.as_bytes()).internal()?,
+        None => {
+            let _ = write!(std::io::stdout().lock(), "{lines}");
+        }
+    }
+    let mut stderr = std::io::stderr().lock();
+    let _ = writeln!(stderr, "exported {} programs", keys.len() - missing);
+    if missing > 0 {
+        let _ = writeln!(
+            stderr,
+            "note: {missing} programs of the run are not in `{}`",
+            settings.cache.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub(crate) fn cache_import(settings: &CacheImportSettings) -> Result<ExitCode, AppError> {
+    let cache = ProgramCache::new(&settings.cache);
+    let mut imported = 0;
+    for path in &settings.files {
+        let text = fs_err::read_to_string(path).user()?;
+        for (index, line) in text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty())
+        {
+            let entry: CacheEntry = serde_json::from_str(line).map_err(|error| {
+                user_error(format!(
+                    "`{}` line {}: not a cache entry: {error}",
+                    path.display(),
+                    index + 1
+                ))
+            })?;
+            if cache_key(&entry.key_material) != entry.key {
+                return Err(user_error(format!(
+                    "`{}` line {}: the entry's key does not match its key material",
+                    path.display(),
+                    index + 1
+                )));
+            }
+            cache.put(entry).internal()?;
+            imported += 1;
+        }
+    }
+    let _ = writeln!(
+        std::io::stdout().lock(),
+        "imported {imported} programs into {}",
+        settings.cache.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -20,6 +20,10 @@ pub enum Request {
     Score(ScoreSettings),
     /// `cache ls`.
     CacheList(CacheSettings),
+    /// `cache export`.
+    CacheExport(CacheExportSettings),
+    /// `cache import`.
+    CacheImport(CacheImportSettings),
     /// `bench sandbox`.
     BenchSandbox(BenchSettings),
 }
@@ -132,6 +136,26 @@ pub struct ScoreSettings {
 pub struct CacheSettings {
     /// The cache folder.
     pub cache: PathBuf,
+}
+
+/// `cache export` settings.
+#[derive(Debug, Clone)]
+pub struct CacheExportSettings {
+    /// The cache folder.
+    pub cache: PathBuf,
+    /// The run whose programs are exported.
+    pub run: PathBuf,
+    /// Output file (stdout when `None`).
+    pub out: Option<PathBuf>,
+}
+
+/// `cache import` settings.
+#[derive(Debug, Clone)]
+pub struct CacheImportSettings {
+    /// The cache folder.
+    pub cache: PathBuf,
+    /// Exported JSONL files.
+    pub files: Vec<PathBuf>,
 }
 
 /// `bench sandbox` settings.

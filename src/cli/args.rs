@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchSettings, Budgets, CacheSettings, ExecSettings, QuestionsSettings, Request, RunSettings,
-    ScoreSettings, SplitSelection,
+    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
+    QuestionsSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
@@ -221,6 +221,29 @@ pub enum CacheCommand {
         #[arg(long, value_name = "DIR")]
         cache: PathBuf,
     },
+    /// Write the programs a run used, with their completions, as one JSONL file that another
+    /// user can import and replay with --offline.
+    Export {
+        /// The cache folder the run recorded into.
+        #[arg(long, value_name = "DIR")]
+        cache: PathBuf,
+        /// The run directory.
+        #[arg(long, value_name = "RUN")]
+        run: PathBuf,
+        /// The JSONL file to write (default: stdout).
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Add the entries of exported JSONL files to a cache (keys are checked; existing entries
+    /// are kept).
+    Import {
+        /// The cache folder.
+        #[arg(long, value_name = "DIR")]
+        cache: PathBuf,
+        /// Exported JSONL files.
+        #[arg(value_name = "FILE", required = true)]
+        files: Vec<PathBuf>,
+    },
 }
 
 /// `bench` subcommands.
@@ -318,6 +341,12 @@ impl Cli {
                 runs: args.runs,
                 json: args.json,
             }),
+            Some(Command::Cache(CacheCommand::Export { cache, run, out })) => {
+                Request::CacheExport(CacheExportSettings { cache, run, out })
+            }
+            Some(Command::Cache(CacheCommand::Import { cache, files })) => {
+                Request::CacheImport(CacheImportSettings { cache, files })
+            }
             Some(Command::Cache(CacheCommand::Ls { cache })) => {
                 Request::CacheList(CacheSettings { cache })
             }

@@ -62,6 +62,47 @@ pub fn write_program(
     Ok(program)
 }
 
+/// Writes one program for a whole choice question (the `--per-question` mode): it checks every
+/// option with that option's program and returns the letters of those that hold (`"A C"`).
+/// Open-ended questions get their usual program.
+pub fn write_question_program(question: &Question) -> Result<String, WriterError> {
+    if question.options.is_empty() {
+        return write_program(question, None);
+    }
+    if question.scenario != Scenario::Rope {
+        return Err(WriterError::Scenario(question.scenario));
+    }
+    let title = question.title.as_str();
+    let mut program = String::new();
+    let _ = writeln!(program, "# {}", title.replace(['\n', '\r'], " "));
+    for option in &question.options {
+        let _ = writeln!(
+            program,
+            "\n# {}. {}",
+            option.letter,
+            option.text.replace(['\n', '\r'], " ")
+        );
+        let _ = writeln!(
+            program,
+            "def option_{}(video):",
+            option.letter.to_ascii_lowercase()
+        );
+        program.push_str("    rope_scene = SoftScene(video, 'rope')\n");
+        program.push_str(&choice_body(title, &option.text)?);
+    }
+    program.push_str("\ndef execute_command(video):\n    chosen = []\n");
+    for option in &question.options {
+        let _ = writeln!(
+            program,
+            "    if option_{}(video) == \"yes\":\n        chosen.append(\"{}\")",
+            option.letter.to_ascii_lowercase(),
+            option.letter
+        );
+    }
+    program.push_str("    return \" \".join(chosen)\n");
+    Ok(program)
+}
+
 /// A Python string literal for `text` (escaped, so question text cannot inject code).
 fn literal(text: &str) -> String {
     let mut out = String::with_capacity(text.len() + 2);
@@ -368,6 +409,27 @@ mod tests {
         );
         let second = write_program(&q, q.options.get(1)).unwrap();
         insta::assert_snapshot!(second);
+    }
+
+    #[test]
+    fn per_question_program_checks_every_option_and_returns_letters() {
+        let q = question(
+            "If the purple cube were much lighter, what would happen?\nA. The blue pulley would rotate clockwise\nB. The green cube would not move",
+            "A",
+            "rope_counterfactual",
+            "multiple_choice",
+        );
+        let program = write_question_program(&q).unwrap();
+        assert!(program.contains("def option_a(video):"), "{program}");
+        assert!(program.contains("def option_b(video):"), "{program}");
+        assert!(
+            program.contains("    if option_b(video) == \"yes\":\n        chosen.append(\"B\")"),
+            "{program}"
+        );
+        assert!(
+            program.trim_end().ends_with("return \" \".join(chosen)"),
+            "{program}"
+        );
     }
 
     #[test]

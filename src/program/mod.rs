@@ -21,6 +21,8 @@ pub struct Program {
     pub source: String,
     /// Where it came from.
     pub origin: ProgramOrigin,
+    /// The program-cache key it is (or would be) stored under.
+    pub key: Option<String>,
 }
 
 /// Where a program came from.

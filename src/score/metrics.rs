@@ -356,6 +356,7 @@ mod tests {
             family: String::new(),
             video_id: "0".into(),
             program_hash: None,
+            program_key: None,
             program_origin: None,
             value: None,
             answer: None,

@@ -82,6 +82,9 @@ pub struct Prediction {
     pub video_id: String,
     /// blake3 of the program text, when a program was obtained.
     pub program_hash: Option<String>,
+    /// The program-cache key of the program (what `cache export` collects).
+    #[serde(default)]
+    pub program_key: Option<String>,
     /// Where the program came from (`builtin`, `cache`, ...).
     pub program_origin: Option<String>,
     /// The program's value as JSON, when it produced one.

@@ -236,6 +236,49 @@ fn cache_records_programs_and_offline_replays_them() {
             .all(|p| p["program_origin"] == "cache")
     );
 
+    // Another user: export the run's programs, import them into a fresh cache, replay offline.
+    let exported = out.path().join("programs.jsonl");
+    let export = contphy(
+        &root(),
+        &[
+            "cache",
+            "export",
+            "--cache",
+            cache.to_str().unwrap(),
+            "--run",
+            recorded.to_str().unwrap(),
+            "--out",
+            exported.to_str().unwrap(),
+        ],
+    );
+    assert!(export.status.success(), "{}", stderr(&export));
+    assert_eq!(
+        fs_err::read_to_string(&exported).unwrap().lines().count(),
+        384
+    );
+    let fresh = out.path().join("fresh-cache");
+    let import = contphy(
+        &root(),
+        &[
+            "cache",
+            "import",
+            "--cache",
+            fresh.to_str().unwrap(),
+            exported.to_str().unwrap(),
+        ],
+    );
+    assert!(import.status.success(), "{}", stderr(&import));
+    let elsewhere = out.path().join("elsewhere");
+    assert!(
+        run_all_questions(
+            &elsewhere,
+            &["--cache", fresh.to_str().unwrap(), "--offline"]
+        )
+        .status
+        .success()
+    );
+    assert_eq!(without_origin(&recorded), without_origin(&elsewhere));
+
     let empty = out.path().join("empty-cache");
     fs_err::create_dir_all(&empty).unwrap();
     let output = run_all_questions(&missed, &["--cache", empty.to_str().unwrap(), "--offline"]);
