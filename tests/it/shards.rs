@@ -61,7 +61,7 @@ fn merged_shards_score_exactly_like_the_unsharded_run() {
     assert_eq!(seen.len(), 185);
 
     let unsharded = scores_json(&[&whole]);
-    let merged = scores_json(&shards.iter().map(|s| s.as_path()).rev().collect::<Vec<_>>());
+    let merged = scores_json(&shards.iter().map(std::path::PathBuf::as_path).rev().collect::<Vec<_>>());
     assert_eq!(
         merged["runs"].as_array().unwrap().len(),
         1,
@@ -102,13 +102,9 @@ fn shard_argument(script: &str, environment: &[(&str, String)]) -> String {
         String::from_utf8_lossy(&output.stderr)
     );
     let printed = String::from_utf8_lossy(&output.stdout).into_owned();
-    let mut lines = printed.lines();
-    while let Some(line) = lines.next() {
-        if line == "--shard" {
-            return lines.next().unwrap().to_string();
-        }
-    }
-    panic!("no --shard argument in:\n{printed}");
+    let lines: Vec<&str> = printed.lines().collect();
+    let at = lines.iter().position(|line| *line == "--shard").expect("the recipe passes --shard");
+    lines[at + 1].to_string()
 }
 
 #[test]
