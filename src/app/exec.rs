@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
-use super::pipeline::{executed_from, sandbox_budgets, start_pool};
+use super::pipeline::{outcome_from, sandbox_budgets, start_pool};
 use super::settings::ExecSettings;
 use crate::answer::{interpret, is_correct};
 use crate::dataset::{VideoFolder, load_question_file, read_validity};
@@ -70,7 +70,7 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
         class: super::ErrorClass::Internal,
         error: anyhow::anyhow!("the sandbox pool returned no result"),
     })?;
-    let executed = executed_from("exec".to_string(), &result);
+    let executed = outcome_from(&result);
     let (value, answer, correct, error) = match &executed.result {
         Ok(value) => match (interpret(value, option.as_ref()), &question) {
             (Ok(answer), Some(question)) => {

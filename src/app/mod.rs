@@ -7,6 +7,7 @@
 
 mod bench;
 mod error;
+mod evaluate;
 mod exec;
 mod pipeline;
 mod progress;
@@ -15,6 +16,7 @@ mod run;
 mod run_dir;
 mod score;
 mod settings;
+mod source;
 
 pub use error::{AppError, ErrorClass};
 pub use settings::{

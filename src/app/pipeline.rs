@@ -1,41 +1,20 @@
-//! The per-unit part of `run`: sandbox execution of prepared units (grouped by video, so one
-//! worker keeps one video's memoised scene) and the turn of each result into a [`Prediction`].
+//! The sandbox side of the pipeline: budgets from settings, the worker pool, and the translation
+//! of a sandbox result into the pipeline's outcome (value, or a failure with its stage).
 
 use serde_json::Value;
 
 use super::error::{AppError, Classify as _};
-use super::run::origin_name;
 use super::settings::Budgets;
-use crate::answer::{interpret, is_correct};
-use crate::dataset::{ChoiceOption, Question};
-use crate::program::Program;
-use crate::sandbox::{self, Pool, PoolConfig, Unit, WorkerCommand, scene_host_spec};
-use crate::scene_api::{VideoSpec, WorkCounters};
-use crate::score::{Prediction, Stage, UnitError};
+use crate::sandbox::{self, Pool, PoolConfig, WorkerCommand};
+use crate::scene_api::WorkCounters;
+use crate::score::{Stage, UnitError};
 
-/// A unit ready for the sandbox.
+/// What the sandbox returned for one program.
 #[derive(Debug, Clone)]
-pub(crate) struct PreparedUnit {
-    /// `<question>` or `<question>:<letter>`.
-    pub(crate) unit: String,
-    /// Index of its question in the run's question list.
-    pub(crate) question_index: usize,
-    /// The option, for choice questions.
-    pub(crate) option: Option<ChoiceOption>,
-    /// The video to bind as the scene.
-    pub(crate) video: VideoSpec,
-    /// The program.
-    pub(crate) program: Program,
-}
-
-/// What the sandbox returned for a unit.
-#[derive(Debug, Clone)]
-pub(crate) struct ExecutedUnit {
-    /// The unit id.
-    pub(crate) unit: String,
+pub(crate) struct SandboxOutcome {
     /// The program's value as JSON, or why it has none.
     pub(crate) result: Result<Value, UnitError>,
-    /// Scene work done for the unit.
+    /// Scene work done for it.
     pub(crate) work: WorkCounters,
     /// Own time, ms.
     pub(crate) own_ms: u64,
@@ -45,50 +24,20 @@ pub(crate) struct ExecutedUnit {
     pub(crate) wall_ms: u64,
 }
 
-/// The prediction of an executed unit: its answer judged against the gold.
-pub(crate) fn finish_unit(
-    question: &Question,
-    option: Option<&ChoiceOption>,
-    program: &Program,
-    executed: ExecutedUnit,
-) -> Prediction {
-    let (value, answer, correct, error) = match executed.result {
-        Ok(value) => match interpret(&value, option) {
-            Ok(answer) => {
-                let correct = is_correct(&answer, &question.answer, option);
-                (Some(value), Some(answer), correct, None)
-            }
-            Err(error) => (
-                Some(value),
-                None,
-                false,
-                Some(UnitError {
-                    stage: Stage::Answer,
-                    kind: error.kind().to_string(),
-                    message: error.to_string(),
-                }),
-            ),
-        },
-        Err(error) => (None, None, false, Some(error)),
-    };
-    Prediction {
-        unit: executed.unit,
-        question_id: question.id.0.clone(),
-        option: option.map(|o| o.letter),
-        scenario: question.scenario,
-        family: question.family.0.clone(),
-        video_id: question.video_id.0.clone(),
-        program_hash: Some(program.hash()),
-        program_key: program.key.clone(),
-        program_origin: Some(origin_name(program.origin).to_string()),
-        value,
-        answer,
-        correct,
-        error,
-        work: executed.work,
-        own_ms: executed.own_ms,
-        api_ms: executed.api_ms,
-        wall_ms: executed.wall_ms,
+impl SandboxOutcome {
+    /// A program whose result never came back (the pool lost it).
+    pub(crate) fn lost() -> SandboxOutcome {
+        SandboxOutcome {
+            result: Err(UnitError {
+                stage: Stage::Sandbox,
+                kind: "internal".to_string(),
+                message: "the sandbox pool returned no result for this program".to_string(),
+            }),
+            work: WorkCounters::default(),
+            own_ms: 0,
+            api_ms: 0,
+            wall_ms: 0,
+        }
     }
 }
 
@@ -122,7 +71,7 @@ pub(crate) fn start_pool(jobs: usize, budgets: Budgets) -> Result<Pool, AppError
 }
 
 /// The pipeline's view of one sandbox result.
-pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> ExecutedUnit {
+pub(crate) fn outcome_from(result: &sandbox::UnitResult) -> SandboxOutcome {
     let report = &result.report;
     let outcome = match &report.outcome {
         Ok(value) => Ok(value.to_plain_json()),
@@ -130,8 +79,7 @@ pub(crate) fn executed_from(unit: String, result: &sandbox::UnitResult) -> Execu
     };
     let work =
         serde_json::from_value::<WorkCounters>(report.work_counters.clone()).unwrap_or_default();
-    ExecutedUnit {
-        unit,
+    SandboxOutcome {
         result: outcome,
         work,
         own_ms: whole_ms(report.own_ms),
@@ -183,41 +131,4 @@ pub(crate) fn unit_error(error: &sandbox::Error) -> UnitError {
             }
         }
     }
-}
-
-/// Runs `units` through a pool of `jobs` workers, calling `on_result` as each finishes. Units of
-/// one video go to one worker, in order, so its memoised scene is loaded once.
-pub(crate) fn execute_units(
-    units: Vec<PreparedUnit>,
-    jobs: usize,
-    budgets: Budgets,
-    mut on_result: impl FnMut(ExecutedUnit),
-) -> Result<(), AppError> {
-    if units.is_empty() {
-        return Ok(());
-    }
-    let pool = start_pool(jobs.min(units.len()), budgets)?;
-    let sandbox_budgets = sandbox_budgets(budgets);
-    let mut names = Vec::with_capacity(units.len());
-    for (index, unit) in units.into_iter().enumerate() {
-        pool.submit(Unit {
-            id: index as u64,
-            key: format!("{}/{}", unit.video.scenario, unit.video.video_id),
-            host: scene_host_spec(&unit.video),
-            source: unit.program.source,
-            budgets: sandbox_budgets.clone(),
-        })
-        .internal()?;
-        names.push(unit.unit);
-    }
-    for result in pool.results() {
-        let Some(name) = usize::try_from(result.unit_id)
-            .ok()
-            .and_then(|i| names.get(i))
-        else {
-            continue;
-        };
-        on_result(executed_from(name.clone(), &result));
-    }
-    Ok(())
 }

@@ -5,26 +5,23 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context as _;
 use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
-use super::pipeline::{ExecutedUnit, PreparedUnit, execute_units, finish_unit};
+use super::evaluate::{EvaluationSettings, Task, evaluate};
 use super::progress::Progress;
 use super::run_dir::{Manifest, RunDir, RunIdentity, unix_ms};
 use super::settings::{RunSettings, SplitSelection};
+use super::source::{BuiltinSource, CacheAccess, ProgramSource};
 use crate::dataset::{
     ChoiceOption, DataRoot, Question, QuestionSource, Scenario, Split, VideoFolder,
     load_question_file, read_validity, sampled_file_path,
 };
-use crate::program::{CacheEntry, Program, ProgramCache, ProgramOrigin, builtin, cache_key};
+use crate::program::ProgramCache;
 use crate::report::{ReportMeta, render_run_report};
 use crate::scene_api::VideoSpec;
-use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Stage, UnitError, score};
+use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, score};
 use crate::util::content_hash;
-
-/// The program source name recorded in manifests and reports.
-const BUILTIN_SOURCE: &str = "builtin";
 
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let root = DataRoot::open(&settings.data).user()?;
@@ -80,8 +77,13 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     }
 
     let priors = load_priors(&root, &questions)?;
+    let cache = CacheAccess {
+        cache: settings.cache.as_deref().map(ProgramCache::new),
+        offline: settings.offline,
+    };
+    let source: Box<dyn ProgramSource> = Box::new(BuiltinSource { cache });
     let identity = RunIdentity {
-        program_source: BUILTIN_SOURCE.to_string(),
+        program_source: source.name(),
         offline: settings.offline,
         perception: settings.perception,
         dynamics: settings.dynamics,
@@ -91,6 +93,9 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         data_hash: data_hash(videos.values().flatten())?,
         limit: settings.limit,
         shard: settings.shard,
+        per_question: settings.per_question,
+        samples: settings.samples,
+        repair: settings.repair,
     };
 
     let out = settings.out.clone().unwrap_or_else(default_run_dir);
@@ -125,6 +130,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         tool: "contphy-eval".to_string(),
         tool_version: env!("CARGO_PKG_VERSION").to_string(),
         git_revision: option_env!("CONTPHY_GIT_REVISION").map(str::to_string),
+        source: source.describe(),
         identity,
         data_root: settings.data.display().to_string(),
         questions: questions.len(),
@@ -153,96 +159,40 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             unit_order.len()
         );
     }
-    let cache = settings.cache.as_deref().map(ProgramCache::new);
-    let mut prepared = Vec::new();
-    let mut immediate: Vec<Prediction> = Vec::new();
-    for (question_index, question) in questions.iter().enumerate() {
-        let Some(Some(video)) = videos.get(&(question.scenario, question.video_id.0.clone()))
-        else {
-            continue;
-        };
-        let spec = VideoSpec::new(video, settings.perception, settings.dynamics);
-        for (unit, option) in question.units() {
-            if finished.contains(unit.as_str()) {
-                continue;
-            }
-            match obtain_program(question, option, &unit, cache.as_ref(), settings.offline)? {
-                Ok(program) => prepared.push(PreparedUnit {
-                    unit,
-                    question_index,
-                    option: option.cloned(),
-                    video: spec.clone(),
-                    program,
-                }),
-                Err(error) => {
-                    immediate.push(failed_prediction(question, option, &unit, None, error));
-                }
-            }
-        }
-    }
-
-    // Units of one video are submitted together, so each worker loads a video once and the
-    // work counters (which unit paid for the load) do not depend on scheduling.
-    prepared.sort_by(|a, b| {
-        (
-            a.video.scenario,
-            a.video.video_id.as_str(),
-            a.question_index,
-        )
-            .cmp(&(
-                b.video.scenario,
-                b.video.video_id.as_str(),
-                b.question_index,
-            ))
-    });
-    let progress = Progress::new((prepared.len() + immediate.len()) as u64, settings.quiet);
+    let tasks = plan_tasks(&questions, &videos, &finished, settings);
+    let total_units: usize = tasks.iter().map(|t| t.units.len()).sum();
+    let progress = Progress::new(total_units as u64, settings.quiet);
     let mut writer = run_dir.prediction_writer()?;
     let mut failed = 0_u64;
-    let mut new_predictions = Vec::with_capacity(prepared.len() + immediate.len());
-    for prediction in immediate {
-        failed += 1;
-        writer.append(&prediction)?;
-        progress.advance(failed);
-        new_predictions.push(prediction);
-    }
-    let mut write_error: Option<AppError> = None;
-    let units_by_id: BTreeMap<String, (usize, Option<ChoiceOption>, Program)> = prepared
-        .iter()
-        .map(|u| {
-            (
-                u.unit.clone(),
-                (u.question_index, u.option.clone(), u.program.clone()),
-            )
-        })
-        .collect();
-    execute_units(
-        prepared,
-        settings.jobs,
-        settings.budgets,
-        |executed: ExecutedUnit| {
-            let Some((question_index, option, program)) = units_by_id.get(&executed.unit) else {
-                return;
-            };
-            let Some(question) = questions.get(*question_index) else {
-                return;
-            };
-            let prediction = finish_unit(question, option.as_ref(), program, executed);
-            if prediction.error.is_some() {
-                failed += 1;
+    let mut new_predictions = Vec::with_capacity(total_units);
+    let evaluation = EvaluationSettings {
+        workers: settings.jobs,
+        budgets: settings.budgets,
+        samples: settings.samples,
+        repair: settings.repair,
+    };
+    evaluate(
+        &tasks,
+        &questions,
+        source.as_ref(),
+        evaluation,
+        |predictions| {
+            for prediction in predictions {
+                // A resumed per-question task may re-answer units that were already saved.
+                if finished.contains(prediction.unit.as_str()) {
+                    continue;
+                }
+                if prediction.error.is_some() {
+                    failed += 1;
+                }
+                writer.append(&prediction)?;
+                progress.advance(failed);
+                new_predictions.push(prediction);
             }
-            if write_error.is_none()
-                && let Err(error) = writer.append(&prediction)
-            {
-                write_error = Some(error);
-            }
-            progress.advance(failed);
-            new_predictions.push(prediction);
+            Ok(())
         },
     )?;
     progress.finish();
-    if let Some(error) = write_error {
-        return Err(error);
-    }
 
     let mut all = done;
     all.extend(new_predictions);
@@ -255,7 +205,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             || out.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         ),
-        program_source: BUILTIN_SOURCE.to_string(),
+        program_source: source.name(),
         backends: format!(
             "perception={}, dynamics={}",
             serde_json::to_value(settings.perception)
@@ -282,6 +232,57 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let _ = write!(stdout, "{report}");
     let _ = writeln!(stdout, "\nrun directory: {}", run_dir.dir().display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The tasks of the run: one per unit (per-option mode), skipping finished units.
+fn plan_tasks(
+    questions: &[Question],
+    videos: &BTreeMap<(Scenario, String), Option<VideoFolder>>,
+    finished: &BTreeSet<&str>,
+    settings: &RunSettings,
+) -> Vec<Task> {
+    let mut tasks = Vec::new();
+    for (question_index, question) in questions.iter().enumerate() {
+        let Some(Some(video)) = videos.get(&(question.scenario, question.video_id.0.clone()))
+        else {
+            continue;
+        };
+        let spec = VideoSpec::new(video, settings.perception, settings.dynamics);
+        if settings.per_question && question.answer_type.is_choice() {
+            let units: Vec<(String, Option<ChoiceOption>)> = question
+                .units()
+                .into_iter()
+                .map(|(unit, option)| (unit, option.cloned()))
+                .collect();
+            if units
+                .iter()
+                .all(|(unit, _)| finished.contains(unit.as_str()))
+            {
+                continue;
+            }
+            tasks.push(Task {
+                question_index,
+                option: None,
+                whole_question: true,
+                units,
+                video: spec,
+            });
+            continue;
+        }
+        for (unit, option) in question.units() {
+            if finished.contains(unit.as_str()) {
+                continue;
+            }
+            tasks.push(Task {
+                question_index,
+                option: option.cloned(),
+                whole_question: false,
+                units: vec![(unit, option.cloned())],
+                video: spec.clone(),
+            });
+        }
+    }
+    tasks
 }
 
 fn default_run_dir() -> PathBuf {
@@ -397,118 +398,6 @@ fn data_hash<'a>(videos: impl Iterator<Item = &'a VideoFolder>) -> Result<String
         hasher.update(blake3::hash(&bytes).as_bytes());
     }
     Ok(hasher.finalize().to_hex().to_string())
-}
-
-/// The program of one unit: from the cache (offline), or from the builtin writer (recorded in
-/// the cache when one is given).
-fn obtain_program(
-    question: &Question,
-    option: Option<&ChoiceOption>,
-    unit: &str,
-    cache: Option<&ProgramCache>,
-    offline: bool,
-) -> Result<Result<Program, UnitError>, AppError> {
-    let key_material = json!({
-        "source": BUILTIN_SOURCE,
-        "writer": builtin::WRITER_VERSION,
-        "scenario": question.scenario,
-        "question": question.title,
-        "option": option.map(|o| o.text.as_str()),
-    });
-    let key = cache_key(&key_material);
-    if offline {
-        let Some(cache) = cache else {
-            return Ok(Err(program_error(
-                "cache_miss",
-                "--offline needs --cache".to_string(),
-            )));
-        };
-        return Ok(
-            match cache
-                .get(&key)
-                .context("reading the program cache")
-                .user()?
-            {
-                Some(entry) => Ok(Program {
-                    source: entry.program,
-                    origin: ProgramOrigin::Cache,
-                    key: Some(key),
-                }),
-                None => Err(program_error(
-                    "cache_miss",
-                    format!(
-                        "no cached program for unit `{unit}` (key {key}); run once without --offline to record it"
-                    ),
-                )),
-            },
-        );
-    }
-    let source = match builtin::write_program(question, option) {
-        Ok(source) => source,
-        Err(error) => return Ok(Err(program_error("unrecognised", error.to_string()))),
-    };
-    if let Some(cache) = cache {
-        cache
-            .put(CacheEntry {
-                key: key.clone(),
-                key_material,
-                program: source.clone(),
-                raw_completion: None,
-                source: BUILTIN_SOURCE.to_string(),
-                first_unit: unit.to_string(),
-            })
-            .context("recording the program in the cache")
-            .internal()?;
-    }
-    Ok(Ok(Program {
-        source,
-        origin: ProgramOrigin::Builtin,
-        key: Some(key),
-    }))
-}
-
-fn program_error(kind: &str, message: String) -> UnitError {
-    UnitError {
-        stage: Stage::Program,
-        kind: kind.to_string(),
-        message,
-    }
-}
-
-pub(super) fn failed_prediction(
-    question: &Question,
-    option: Option<&ChoiceOption>,
-    unit: &str,
-    program: Option<&Program>,
-    error: UnitError,
-) -> Prediction {
-    Prediction {
-        unit: unit.to_string(),
-        question_id: question.id.0.clone(),
-        option: option.map(|o| o.letter),
-        scenario: question.scenario,
-        family: question.family.0.clone(),
-        video_id: question.video_id.0.clone(),
-        program_hash: program.map(Program::hash),
-        program_key: program.and_then(|p| p.key.clone()),
-        program_origin: program.map(|p| origin_name(p.origin).to_string()),
-        value: None,
-        answer: None,
-        correct: false,
-        error: Some(error),
-        work: crate::scene_api::WorkCounters::default(),
-        own_ms: 0,
-        api_ms: 0,
-        wall_ms: 0,
-    }
-}
-
-pub(super) fn origin_name(origin: ProgramOrigin) -> &'static str {
-    match origin {
-        ProgramOrigin::Builtin => "builtin",
-        ProgramOrigin::Cache => "cache",
-        ProgramOrigin::File => "file",
-    }
 }
 
 #[cfg(test)]

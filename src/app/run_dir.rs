@@ -39,6 +39,15 @@ pub(crate) struct RunIdentity {
     pub(crate) limit: Option<usize>,
     /// `--shard`.
     pub(crate) shard: Option<(usize, usize)>,
+    /// One program per choice question.
+    #[serde(default)]
+    pub(crate) per_question: bool,
+    /// Programs drawn per task.
+    #[serde(default = "one")]
+    pub(crate) samples: u32,
+    /// Repair turns per program.
+    #[serde(default)]
+    pub(crate) repair: u32,
 }
 
 /// `manifest.json`.
@@ -50,6 +59,9 @@ pub(crate) struct Manifest {
     pub(crate) tool_version: String,
     /// The git revision the tool was built from, when known.
     pub(crate) git_revision: Option<String>,
+    /// The program source: writer version, or model, endpoint (never the key) and sampling.
+    #[serde(default)]
+    pub(crate) source: serde_json::Value,
     /// The settings that determine results.
     pub(crate) identity: RunIdentity,
     /// The data root as given.
@@ -64,6 +76,10 @@ pub(crate) struct Manifest {
     pub(crate) started_unix_ms: u64,
     /// End time, ms since the Unix epoch (0 while running).
     pub(crate) finished_unix_ms: u64,
+}
+
+fn one() -> u32 {
+    1
 }
 
 pub(crate) fn unix_ms() -> u64 {

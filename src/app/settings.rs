@@ -76,6 +76,12 @@ pub struct RunSettings {
     pub shard: Option<(usize, usize)>,
     /// No progress bar.
     pub quiet: bool,
+    /// One program per choice question.
+    pub per_question: bool,
+    /// Programs drawn per task.
+    pub samples: u32,
+    /// Repair turns per program.
+    pub repair: u32,
     /// Perception backend.
     pub perception: PerceptionBackend,
     /// Dynamics backend.

@@ -125,6 +125,17 @@ pub struct RunArgs {
     /// Evaluate shard I of N (questions whose index modulo N is I), e.g. 0/4.
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
+    /// Ask for one program per choice question, returning the letters of the options that
+    /// hold, instead of one yes/no program per option (the paper's way).
+    #[arg(long)]
+    per_question: bool,
+    /// Programs drawn per task; the majority answer is taken (self-consistency).
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
+    samples: u32,
+    /// Repair turns per program: a program that fails with a syntax error or a scene-API misuse
+    /// is shown to the model with the error (LLM sources only).
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=8))]
+    repair: u32,
     /// Hide the progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -306,6 +317,9 @@ impl RunArgs {
             limit: self.limit,
             shard: self.shard,
             quiet: self.quiet,
+            per_question: self.per_question,
+            samples: self.samples,
+            repair: self.repair,
             perception: self.engine.perception(),
             dynamics: self.engine.dynamics(),
             budgets: self.engine.budgets(),

@@ -35,6 +35,8 @@ pub enum ProgramOrigin {
     Cache,
     /// A program file given on the command line.
     File,
+    /// Written by an LLM in this run.
+    Llm,
 }
 
 impl Program {

@@ -361,6 +361,9 @@ mod tests {
             value: None,
             answer: None,
             correct,
+            attempts: vec![],
+            votes: vec![],
+            usage: None,
             error: error.map(|stage| UnitError {
                 stage,
                 kind: "timeout".into(),

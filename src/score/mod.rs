@@ -16,4 +16,4 @@ mod prediction;
 
 pub use baseline::{FamilyPrior, Priors};
 pub use metrics::{ExpectedTally, GroupScore, Scores, Tally, score};
-pub use prediction::{EvalQuestion, Prediction, RunQuestions, Stage, UnitError};
+pub use prediction::{Attempt, EvalQuestion, Prediction, RunQuestions, Stage, UnitError, Usage};

@@ -96,7 +96,17 @@ pub struct Prediction {
     pub correct: bool,
     /// The failure, if the unit failed.
     pub error: Option<UnitError>,
-    /// Work done by the scene API for this unit.
+    /// Programs tried for this unit: every sample and every repair attempt, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub attempts: Vec<Attempt>,
+    /// Answers of the samples and their counts, when more than one sample was drawn.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub votes: Vec<(String, u32)>,
+    /// Tokens and cost of the LLM completions behind the unit (on the first unit of a
+    /// per-question program only, so totals do not count a completion twice).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub usage: Option<Usage>,
+    /// Work done by the scene API for this unit (for a per-question program: on its first unit).
     pub work: WorkCounters,
     /// Program time outside the scene API, ms.
     pub own_ms: u64,
@@ -104,6 +114,45 @@ pub struct Prediction {
     pub api_ms: u64,
     /// Wall time of the unit in the sandbox, ms.
     pub wall_ms: u64,
+}
+
+/// One program tried for a unit.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Attempt {
+    /// Sample index (self-consistency draws), from 0.
+    pub sample: u32,
+    /// Attempt within the sample: 0, then 1.. for repair turns.
+    pub attempt: u32,
+    /// blake3 of the program, when one was obtained.
+    pub program_hash: Option<String>,
+    /// Why the attempt failed, if it did.
+    pub error: Option<UnitError>,
+}
+
+/// LLM usage behind a unit.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Usage {
+    /// Prompt tokens, as the server reported them.
+    pub prompt_tokens: u64,
+    /// Completion tokens.
+    pub completion_tokens: u64,
+    /// Cost in USD from the price table, when the model is priced.
+    pub cost_usd: Option<f64>,
+    /// HTTP requests made in this run (0 when every completion came from the cache).
+    pub requests: u32,
+}
+
+impl Usage {
+    /// Adds `other` to `self`.
+    pub fn add(&mut self, other: &Usage) {
+        self.prompt_tokens += other.prompt_tokens;
+        self.completion_tokens += other.completion_tokens;
+        self.cost_usd = match (self.cost_usd, other.cost_usd) {
+            (Some(a), Some(b)) => Some(a + b),
+            (a, b) => a.or(b),
+        };
+        self.requests += other.requests;
+    }
 }
 
 /// A question as the scorer needs it (gold included), saved in the run's `questions.json`.

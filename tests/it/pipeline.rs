@@ -365,3 +365,33 @@ fn default_run_evaluates_the_sampled_test_split() {
         "2 property + 2 dynamics questions of the one (test) video"
     );
 }
+
+#[test]
+fn per_question_programs_answer_every_option_and_score_the_same() {
+    let out = tempfile::tempdir().unwrap();
+    let run = out.path().join("per-question");
+    let output = run_all_questions(&run, &["--per-question"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_perfect(&run);
+    let predictions = predictions_without_timings(&run);
+    assert_eq!(predictions.len(), 384);
+    // One program per choice question: every option of a question shares it, and its work is
+    // recorded once, on the first option.
+    let options: Vec<&Value> = predictions
+        .iter()
+        .filter(|p| {
+            p["unit"]
+                .as_str()
+                .unwrap()
+                .starts_with("0/rope_goaldriven/0:")
+        })
+        .collect();
+    assert!(options.len() >= 3);
+    assert!(
+        options
+            .iter()
+            .all(|p| p["program_hash"] == options[0]["program_hash"])
+    );
+    assert!(options[0]["work"]["api_calls"].as_u64().unwrap() > 0);
+    assert!(options[1..].iter().all(|p| p["work"]["api_calls"] == 0));
+}

@@ -61,7 +61,13 @@ fn merged_shards_score_exactly_like_the_unsharded_run() {
     assert_eq!(seen.len(), 185);
 
     let unsharded = scores_json(&[&whole]);
-    let merged = scores_json(&shards.iter().map(std::path::PathBuf::as_path).rev().collect::<Vec<_>>());
+    let merged = scores_json(
+        &shards
+            .iter()
+            .map(std::path::PathBuf::as_path)
+            .rev()
+            .collect::<Vec<_>>(),
+    );
     assert_eq!(
         merged["runs"].as_array().unwrap().len(),
         1,
@@ -103,7 +109,10 @@ fn shard_argument(script: &str, environment: &[(&str, String)]) -> String {
     );
     let printed = String::from_utf8_lossy(&output.stdout).into_owned();
     let lines: Vec<&str> = printed.lines().collect();
-    let at = lines.iter().position(|line| *line == "--shard").expect("the recipe passes --shard");
+    let at = lines
+        .iter()
+        .position(|line| *line == "--shard")
+        .expect("the recipe passes --shard");
     lines[at + 1].to_string()
 }
 
