@@ -9,6 +9,14 @@ pub(crate) struct Progress {
 }
 
 impl Progress {
+    /// A bar over `total` items named `label` (e.g. completions), on stderr when it is a terminal.
+    pub(crate) fn labelled(total: u64, label: &str) -> Progress {
+        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        let template = format!("{{spinner}} [{{elapsed_precise}}] {{bar:40}} {{pos}}/{{len}} {label} {{msg}}");
+        bar.set_style(ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+        Progress { bar }
+    }
+
     pub(crate) fn new(total: u64, quiet: bool) -> Progress {
         let bar = if quiet {
             ProgressBar::hidden()

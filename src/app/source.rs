@@ -177,6 +177,7 @@ impl BuiltinSource {
             raw_completion: None,
             source: BUILTIN_SOURCE.to_string(),
             first_unit: request.unit.to_string(),
+            details: Value::Null,
         })?;
         Ok(Ok(Obtained {
             program: Program {

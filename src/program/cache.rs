@@ -65,6 +65,10 @@ pub struct CacheEntry {
     pub source: String,
     /// The unit that first used it (for `cache ls`).
     pub first_unit: String,
+    /// Source-specific facts about how it was made (for an LLM: token usage, finish reason,
+    /// the model the server reported).
+    #[serde(default, skip_serializing_if = "Value::is_null")]
+    pub details: Value,
 }
 
 /// The key of `key_material`.
@@ -204,6 +208,7 @@ mod tests {
             raw_completion: None,
             source: "builtin".to_string(),
             first_unit: "00001".to_string(),
+            details: Value::Null,
         }
     }
 
