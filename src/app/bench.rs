@@ -1,4 +1,10 @@
-//! `bench sandbox`: what the sandbox costs, as JSON on stdout.
+//! `bench sandbox` and `bench llm`, as JSON on stdout.
+//!
+//! `bench llm` runs `llm::run_bench`: the client against a loopback mock with a fixed latency,
+//! throughput per concurrency level as a fraction of the ideal `jobs / latency`, and the request
+//! rate achieved under each `--rpm` limit.
+//!
+//! `bench sandbox` measures what the sandbox costs:
 //!
 //! * the sandbox's own measurements (interpreter start-up, small programs, pool throughput on
 //!   trivial units, worker start), from `sandbox::run_bench`;
@@ -16,7 +22,7 @@ use serde_json::{Value, json};
 
 use super::error::{AppError, Classify as _, user_error};
 use super::pipeline::{sandbox_budgets, start_pool};
-use super::settings::{BenchSettings, Budgets};
+use super::settings::{BenchLlmSettings, BenchSettings, Budgets};
 use crate::dataset::engine::generate_rope_questions;
 use crate::dataset::{Question, QuestionId, RopeAnnotation, Scenario, VideoFolder, VideoId};
 use crate::program::builtin::write_program;
@@ -263,4 +269,25 @@ fn run_cpython(
         .map(|ns| Duration::from_nanos(ns.as_u64().unwrap_or(0)))
         .collect();
     Ok((version, TimeSummary::of(&startups), times))
+}
+
+pub(crate) fn bench_llm(settings: &BenchLlmSettings) -> Result<ExitCode, AppError> {
+    if settings.jobs.is_empty() || settings.jobs.contains(&0) {
+        return Err(user_error("--jobs needs concurrency levels of at least 1"));
+    }
+    if !(settings.rpm_seconds.is_finite() && settings.rpm_seconds > 0.0) {
+        return Err(user_error("--rpm-seconds must be a positive number"));
+    }
+    let config = crate::llm::BenchConfig {
+        latency: Duration::from_millis(settings.latency_ms),
+        jobs_levels: settings.jobs.clone(),
+        rpm_limits: settings.rpm.clone(),
+        rpm_span: Duration::from_secs_f64(settings.rpm_seconds),
+        ..crate::llm::BenchConfig::default()
+    };
+    let report = crate::llm::run_bench(&config).internal()?;
+    let text = serde_json::to_string_pretty(&report).internal()?;
+    let mut stdout = std::io::stdout().lock();
+    let _ = writeln!(stdout, "{text}");
+    Ok(ExitCode::SUCCESS)
 }

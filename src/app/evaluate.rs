@@ -232,9 +232,7 @@ pub(crate) fn evaluate(
                 let Some(obtained) = sample.pending.take() else {
                     continue;
                 };
-                let outcome = outcomes
-                    .remove(&id)
-                    .unwrap_or_else(|| SandboxOutcome::lost());
+                let outcome = outcomes.remove(&id).unwrap_or_else(SandboxOutcome::lost);
                 sample.work = add_work(&sample.work, &outcome.work);
                 sample.own_ms += outcome.own_ms;
                 sample.api_ms += outcome.api_ms;
@@ -283,7 +281,9 @@ pub(crate) fn evaluate(
             on_task_done(task_predictions(task, question, samples))?;
             reported[task_index] = true;
             // Free what is no longer needed.
-            samples.iter_mut().for_each(|s| s.repairs.clear());
+            for sample in samples.iter_mut() {
+                sample.repairs.clear();
+            }
         }
         if unfinished == 0 {
             return Ok(());
@@ -329,6 +329,10 @@ fn sample_answer(
     }
 }
 
+/// One sample's program for a unit and its answer (the raw value and the interpreted answer), or
+/// why it has none.
+type SampleAnswer<'a> = (Option<&'a Program>, Result<(Value, String), UnitError>);
+
 /// The predictions of a finished task: per unit, the majority answer over the samples (ties go
 /// to the earliest sample), judged against the gold.
 fn task_predictions(task: &Task, question: &Question, samples: &[Sample]) -> Vec<Prediction> {
@@ -350,7 +354,7 @@ fn task_predictions(task: &Task, question: &Question, samples: &[Sample]) -> Vec
         .enumerate()
         .map(|(position, (unit, option))| {
             // Per sample: its answer for this unit, or why it has none.
-            let answers: Vec<(Option<&Program>, Result<(Value, String), UnitError>)> = samples
+            let answers: Vec<SampleAnswer<'_>> = samples
                 .iter()
                 .filter_map(|s| s.outcome.as_ref())
                 .map(|(program, result)| {

@@ -9,9 +9,11 @@ mod bench;
 mod error;
 mod evaluate;
 mod exec;
+mod llm_source;
 mod pipeline;
 mod progress;
 mod questions;
+mod render;
 mod run;
 mod run_dir;
 mod score;
@@ -20,8 +22,9 @@ mod source;
 
 pub use error::{AppError, ErrorClass};
 pub use settings::{
-    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
-    QuestionsSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    BenchLlmSettings, BenchSettings, Budgets, CacheExportSettings, CacheImportSettings,
+    CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, LlmSettings, QuestionsSettings, RenderSettings,
+    Request, RunSettings, ScoreSettings, SplitSelection,
 };
 
 use std::io::Write as _;
@@ -38,6 +41,8 @@ pub fn execute(request: Request) -> ExitCode {
         Request::CacheExport(settings) => score::cache_export(&settings),
         Request::CacheImport(settings) => score::cache_import(&settings),
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
+        Request::BenchLlm(settings) => bench::bench_llm(&settings),
+        Request::Render(settings) => render::render(&settings),
     };
     match result {
         Ok(code) => code,

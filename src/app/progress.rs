@@ -3,17 +3,26 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// A progress bar over units.
+/// A progress bar over units (clones share the bar).
+#[derive(Clone)]
 pub(crate) struct Progress {
     bar: ProgressBar,
 }
 
 impl Progress {
     /// A bar over `total` items named `label` (e.g. completions), on stderr when it is a terminal.
-    pub(crate) fn labelled(total: u64, label: &str) -> Progress {
-        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-        let template = format!("{{spinner}} [{{elapsed_precise}}] {{bar:40}} {{pos}}/{{len}} {label} {{msg}}");
-        bar.set_style(ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+    pub(crate) fn labelled(total: u64, label: &str, quiet: bool) -> Progress {
+        let bar = if quiet {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+        };
+        let template =
+            format!("{{spinner}} [{{elapsed_precise}}] {{bar:40}} {{pos}}/{{len}} {label} {{msg}}");
+        bar.set_style(
+            ProgressStyle::with_template(&template)
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
         Progress { bar }
     }
 
@@ -36,6 +45,11 @@ impl Progress {
         if failed > 0 {
             self.bar.set_message(format!("({failed} failed)"));
         }
+    }
+
+    /// Shows `text` beside the bar (e.g. a retry after a rate limit).
+    pub(crate) fn message(&self, text: String) {
+        self.bar.set_message(text);
     }
 
     pub(crate) fn finish(&self) {

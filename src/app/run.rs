@@ -9,18 +9,21 @@ use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
 use super::evaluate::{EvaluationSettings, Task, evaluate};
+use super::llm_source::{LlmSource, LlmSourceSettings};
 use super::progress::Progress;
 use super::run_dir::{Manifest, RunDir, RunIdentity, unix_ms};
+use super::settings::DEFAULT_LLM_JOBS;
 use super::settings::{RunSettings, SplitSelection};
 use super::source::{BuiltinSource, CacheAccess, ProgramSource};
 use crate::dataset::{
     ChoiceOption, DataRoot, Question, QuestionSource, Scenario, Split, VideoFolder,
     load_question_file, read_validity, sampled_file_path,
 };
+use crate::llm::{ClientConfig, Prices, SamplingParams};
 use crate::program::ProgramCache;
 use crate::report::{ReportMeta, render_run_report};
 use crate::scene_api::VideoSpec;
-use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, score};
+use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Usage, score};
 use crate::util::content_hash;
 
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
@@ -77,13 +80,11 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     }
 
     let priors = load_priors(&root, &questions)?;
-    let cache = CacheAccess {
-        cache: settings.cache.as_deref().map(ProgramCache::new),
-        offline: settings.offline,
-    };
-    let source: Box<dyn ProgramSource> = Box::new(BuiltinSource { cache });
+    let out = settings.out.clone().unwrap_or_else(default_run_dir);
+    let source = program_source(settings, &out)?;
     let identity = RunIdentity {
         program_source: source.name(),
+        source_identity: source_identity(&source.describe()),
         offline: settings.offline,
         perception: settings.perception,
         dynamics: settings.dynamics,
@@ -98,7 +99,6 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         repair: settings.repair,
     };
 
-    let out = settings.out.clone().unwrap_or_else(default_run_dir);
     let run_dir = RunDir::new(&out);
     let mut done: Vec<Prediction> = Vec::new();
     if run_dir.holds_run() {
@@ -138,6 +138,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         skipped_invalid_video_questions: skipped_invalid,
         started_unix_ms: started,
         finished_unix_ms: 0,
+        usage: None,
     };
     run_dir.write_manifest(&manifest)?;
     run_dir.write_questions(&RunQuestions {
@@ -166,7 +167,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let mut failed = 0_u64;
     let mut new_predictions = Vec::with_capacity(total_units);
     let evaluation = EvaluationSettings {
-        workers: settings.jobs,
+        workers: sandbox_workers(settings.jobs),
         budgets: settings.budgets,
         samples: settings.samples,
         repair: settings.repair,
@@ -226,12 +227,114 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let report = render_run_report(&meta, &scores);
     run_dir.write_text("report.md", &report)?;
     manifest.finished_unix_ms = unix_ms();
+    manifest.usage = run_usage(&predictions);
     run_dir.write_manifest(&manifest)?;
 
     let mut stdout = std::io::stdout().lock();
     let _ = write!(stdout, "{report}");
     let _ = writeln!(stdout, "\nrun directory: {}", run_dir.dir().display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The core count: sandbox workers never exceed it (`--jobs` above it is LLM concurrency).
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(2, std::num::NonZero::get)
+}
+
+/// Sandbox worker processes for `--jobs`.
+fn sandbox_workers(jobs: Option<usize>) -> usize {
+    jobs.unwrap_or_else(cores).clamp(1, cores())
+}
+
+/// The run's program source: the builtin writer, or the model of `--model` (after a preflight
+/// check of the endpoint, unless the run is offline).
+fn program_source(
+    settings: &RunSettings,
+    out: &std::path::Path,
+) -> Result<Box<dyn ProgramSource>, AppError> {
+    let Some(llm) = &settings.llm else {
+        let cache = CacheAccess {
+            cache: settings.cache.as_deref().map(ProgramCache::new),
+            offline: settings.offline,
+        };
+        return Ok(Box::new(BuiltinSource { cache }));
+    };
+    // Completions cost money: without --cache they are kept in the run directory, so a resumed
+    // run never pays for one twice.
+    let cache_dir = settings.cache.clone().unwrap_or_else(|| out.join("cache"));
+    let cache = CacheAccess {
+        cache: Some(ProgramCache::new(&cache_dir)),
+        offline: settings.offline,
+    };
+    let api_key = std::env::var("OPENAI_API_KEY")
+        .ok()
+        .filter(|key| !key.trim().is_empty());
+    if api_key.is_none()
+        && !settings.offline
+        && llm.base_url.trim_end_matches('/') == crate::llm::DEFAULT_BASE_URL
+    {
+        return Err(user_error(format!(
+            "OPENAI_API_KEY is not set; export it to use `{}` at {}, or pass --base-url for a server that needs no key",
+            llm.model,
+            crate::llm::DEFAULT_BASE_URL
+        )));
+    }
+    if !(llm.request_timeout_seconds.is_finite() && llm.request_timeout_seconds > 0.0) {
+        return Err(user_error(
+            "--request-timeout must be a positive number of seconds",
+        ));
+    }
+    let mut client = ClientConfig::new(llm.base_url.clone());
+    client.api_key = api_key;
+    client.rpm = llm.rpm;
+    client.tpm = llm.tpm;
+    client.max_attempts = llm.max_attempts;
+    client.request_timeout = std::time::Duration::from_secs_f64(llm.request_timeout_seconds);
+    let sampling = SamplingParams {
+        temperature: llm.temperature,
+        top_p: llm.top_p,
+        max_tokens: llm.max_tokens,
+        seed: llm.seed,
+        stop: llm.stop.clone(),
+    };
+    let prices = Prices::resolve(llm.prices.as_deref()).user()?;
+    let source = LlmSource::new(
+        LlmSourceSettings {
+            client,
+            model: llm.model.clone(),
+            sampling,
+            jobs: settings.jobs.unwrap_or(DEFAULT_LLM_JOBS),
+            prices,
+            quiet: settings.quiet,
+        },
+        cache,
+    )?;
+    if !settings.offline {
+        source.preflight()?;
+    }
+    Ok(Box::new(source))
+}
+
+/// What of a source's description determines results: everything but the endpoint's transport
+/// settings (URL, timeouts, rate limits), which a resumed run may change.
+fn source_identity(described: &serde_json::Value) -> serde_json::Value {
+    let mut identity = described.clone();
+    if let Some(object) = identity.as_object_mut() {
+        object.remove("endpoint");
+        object.remove("prices");
+    }
+    identity
+}
+
+/// Token, cost and request totals over the run's predictions (`None` without an LLM).
+fn run_usage(predictions: &[Prediction]) -> Option<Usage> {
+    let mut total = Usage::default();
+    let mut any = false;
+    for usage in predictions.iter().filter_map(|p| p.usage.as_ref()) {
+        total.add(usage);
+        any = true;
+    }
+    any.then_some(total)
 }
 
 /// The tasks of the run: one per unit (per-option mode), skipping finished units.

@@ -21,6 +21,10 @@ use crate::util::{append_line_durable, write_atomic};
 pub(crate) struct RunIdentity {
     /// `builtin`, or the model.
     pub(crate) program_source: String,
+    /// The source's settings that determine programs (writer version; model, sampling, prompt
+    /// set hash and api_spec version).
+    #[serde(default)]
+    pub(crate) source_identity: serde_json::Value,
     /// Replay only.
     pub(crate) offline: bool,
     /// Perception backend.
@@ -76,6 +80,9 @@ pub(crate) struct Manifest {
     pub(crate) started_unix_ms: u64,
     /// End time, ms since the Unix epoch (0 while running).
     pub(crate) finished_unix_ms: u64,
+    /// Token, cost and request totals of an LLM run (set when it finishes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) usage: Option<crate::score::Usage>,
 }
 
 fn one() -> u32 {

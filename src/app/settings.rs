@@ -11,7 +11,7 @@ use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 #[derive(Debug)]
 pub enum Request {
     /// `run`.
-    Run(RunSettings),
+    Run(Box<RunSettings>),
     /// `exec`.
     Exec(ExecSettings),
     /// `questions`.
@@ -26,6 +26,10 @@ pub enum Request {
     CacheImport(CacheImportSettings),
     /// `bench sandbox`.
     BenchSandbox(BenchSettings),
+    /// `bench llm`.
+    BenchLlm(BenchLlmSettings),
+    /// `render`.
+    Render(RenderSettings),
 }
 
 /// Which sampled split(s) a run evaluates.
@@ -68,8 +72,11 @@ pub struct RunSettings {
     pub cache: Option<PathBuf>,
     /// Replay from the cache only.
     pub offline: bool,
-    /// Worker processes.
-    pub jobs: usize,
+    /// `--jobs`: LLM requests in flight; sandbox workers are this, capped at the core count.
+    /// `None`: the core count for both, and [`DEFAULT_LLM_JOBS`] requests for a model.
+    pub jobs: Option<usize>,
+    /// The model that writes programs (`None`: the builtin writer).
+    pub llm: Option<LlmSettings>,
     /// At most this many questions.
     pub limit: Option<usize>,
     /// Shard `(index, count)`.
@@ -88,6 +95,71 @@ pub struct RunSettings {
     pub dynamics: DynamicsBackend,
     /// Sandbox budgets.
     pub budgets: Budgets,
+}
+
+/// Requests in flight to a model when `--jobs` is not given: a hosted API answers in seconds,
+/// so the run waits on the network, not on the cores.
+pub const DEFAULT_LLM_JOBS: usize = 8;
+
+/// How a model writes the programs of a run (`--model` and its flags). The API key is not
+/// here: it is read from `OPENAI_API_KEY` when the client is made, so that no settings dump can
+/// show it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LlmSettings {
+    /// The model id.
+    pub model: String,
+    /// The OpenAI-compatible base URL (`.../v1`).
+    pub base_url: String,
+    /// Sampling temperature.
+    pub temperature: Option<f64>,
+    /// Nucleus sampling.
+    pub top_p: Option<f64>,
+    /// Completion token cap.
+    pub max_tokens: Option<u32>,
+    /// Sampling seed, for servers that honour it.
+    pub seed: Option<u64>,
+    /// Stop sequences.
+    pub stop: Vec<String>,
+    /// Requests per minute.
+    pub rpm: Option<u32>,
+    /// Tokens per minute.
+    pub tpm: Option<u32>,
+    /// Per-attempt request timeout, seconds.
+    pub request_timeout_seconds: f64,
+    /// Requests per completion at most (first try and retries).
+    pub max_attempts: u32,
+    /// A price table overriding the built-in one.
+    pub prices: Option<PathBuf>,
+}
+
+/// `render` settings.
+#[derive(Debug, Clone)]
+pub struct RenderSettings {
+    /// Data root.
+    pub data: PathBuf,
+    /// Question files to search (default: every sampled and per-video file of the root).
+    pub questions: Vec<PathBuf>,
+    /// The question.
+    pub question_id: String,
+    /// The option letter (per-option mode).
+    pub option: Option<char>,
+    /// Render the per-question prompt.
+    pub per_question: bool,
+    /// Print the request as JSON (messages and key material) instead of text.
+    pub json: bool,
+}
+
+/// `bench llm` settings.
+#[derive(Debug, Clone)]
+pub struct BenchLlmSettings {
+    /// Simulated server latency, ms.
+    pub latency_ms: u64,
+    /// Concurrency levels.
+    pub jobs: Vec<usize>,
+    /// Requests-per-minute limits to check.
+    pub rpm: Vec<u32>,
+    /// Seconds each rate limit is measured over.
+    pub rpm_seconds: f64,
 }
 
 /// `exec` settings.

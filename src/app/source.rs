@@ -137,7 +137,7 @@ impl BuiltinSource {
             "scenario": question.scenario,
             "question": question.title,
             "option": request.option.map(|o| o.text.as_str()),
-            "whole_question": request.whole_question.then(|| question.record.question.as_str()),
+            "whole_question": request.whole_question.then_some(question.record.question.as_str()),
         });
         let key = cache_key(&key_material);
         match self.cache.lookup(&key, request.unit)? {

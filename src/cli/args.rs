@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
-    QuestionsSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    BenchLlmSettings, BenchSettings, Budgets, CacheExportSettings, CacheImportSettings,
+    CacheSettings, ExecSettings, LlmSettings, QuestionsSettings, RenderSettings, Request,
+    RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
@@ -33,9 +34,11 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Evaluate questions on videos and write a run directory (the default command).
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Run one program on one video and print one JSON object.
     Exec(ExecArgs),
+    /// Print the exact prompt a question (or one of its options) sends to the model.
+    Render(RenderArgs),
     /// Generate questions from rope annotations (the public engine, re-implemented).
     Questions(QuestionsArgs),
     /// Re-score saved runs and print one leaderboard table.
@@ -116,9 +119,10 @@ pub struct RunArgs {
     /// Replay programs from --cache only; a unit whose program is not cached fails.
     #[arg(long, requires = "cache")]
     offline: bool,
-    /// Sandbox worker processes (default: the number of cores).
-    #[arg(long, value_name = "N")]
-    jobs: Option<usize>,
+    /// Work in parallel: LLM requests in flight, and sandbox worker processes up to the number of
+    /// cores (default: the number of cores; 8 requests with --model).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1024))]
+    jobs: Option<u64>,
     /// Evaluate at most N questions (after sharding).
     #[arg(long, value_name = "N")]
     limit: Option<usize>,
@@ -141,6 +145,102 @@ pub struct RunArgs {
     quiet: bool,
     #[command(flatten)]
     engine: EngineArgs,
+    #[command(flatten)]
+    model: ModelArgs,
+}
+
+/// Flags of the LLM program source.
+#[derive(Debug, Args, Clone)]
+#[command(next_help_heading = "Model (programs written by an LLM)")]
+struct ModelArgs {
+    /// The model that writes the programs, at an OpenAI-compatible endpoint; the API key comes
+    /// from OPENAI_API_KEY. Without --model, the builtin program writer is used.
+    #[arg(long, value_name = "NAME")]
+    model: Option<String>,
+    /// The endpoint's base URL (a local vLLM or llama.cpp server: http://127.0.0.1:8000/v1).
+    #[arg(long, value_name = "URL", default_value = crate::llm::DEFAULT_BASE_URL, requires = "model")]
+    base_url: String,
+    /// Sampling temperature (recorded in the manifest and the cache keys).
+    #[arg(long, value_name = "T", requires = "model")]
+    temperature: Option<f64>,
+    /// Nucleus sampling probability mass.
+    #[arg(long, value_name = "P", requires = "model")]
+    top_p: Option<f64>,
+    /// Most tokens per completion.
+    #[arg(long, value_name = "N", requires = "model")]
+    max_tokens: Option<u32>,
+    /// Sampling seed, for servers that honour it.
+    #[arg(long, value_name = "S", requires = "model")]
+    seed: Option<u64>,
+    /// A stop sequence (repeatable).
+    #[arg(long, value_name = "TEXT", requires = "model")]
+    stop: Vec<String>,
+    /// Requests per minute at most.
+    #[arg(long, value_name = "N", requires = "model", value_parser = clap::value_parser!(u32).range(1..))]
+    rpm: Option<u32>,
+    /// Tokens per minute at most (prompt estimate plus completion cap).
+    #[arg(long, value_name = "N", requires = "model", value_parser = clap::value_parser!(u32).range(1..))]
+    tpm: Option<u32>,
+    /// Time allowed for one request attempt, seconds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 120.0,
+        requires = "model"
+    )]
+    request_timeout: f64,
+    /// Requests per completion at most: the first and its retries (429, 5xx, timeouts,
+    /// connection errors).
+    #[arg(long, value_name = "N", default_value_t = 6, requires = "model", value_parser = clap::value_parser!(u32).range(1..=20))]
+    max_attempts: u32,
+    /// A TOML price table (USD per million tokens) overriding eval/prices.toml.
+    #[arg(long, value_name = "FILE", requires = "model")]
+    prices: Option<PathBuf>,
+}
+
+impl ModelArgs {
+    fn into_settings(self) -> Option<LlmSettings> {
+        let model = self.model?;
+        Some(LlmSettings {
+            model,
+            base_url: self.base_url,
+            temperature: self.temperature,
+            top_p: self.top_p,
+            max_tokens: self.max_tokens,
+            seed: self.seed,
+            stop: self.stop,
+            rpm: self.rpm,
+            tpm: self.tpm,
+            request_timeout_seconds: self.request_timeout,
+            max_attempts: self.max_attempts,
+            prices: self.prices,
+        })
+    }
+}
+
+/// `render` arguments.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Data root holding the question files.
+    #[arg(long, value_name = "DIR")]
+    data: PathBuf,
+    /// The question's id (`question_id` of a sampled file, or `<video>_<index>` of a per-video
+    /// file).
+    #[arg(long, value_name = "ID")]
+    question_id: String,
+    /// The option letter: render that option's yes/no prompt (choice questions, per option).
+    #[arg(long, value_name = "LETTER", conflicts_with = "per_question")]
+    option: Option<char>,
+    /// Question files to search (default: every question file under the data root).
+    #[arg(long = "questions", value_name = "FILE")]
+    questions: Vec<PathBuf>,
+    /// Render the per-question prompt (one program returning the letters of the options that
+    /// hold).
+    #[arg(long)]
+    per_question: bool,
+    /// Print the request as JSON (the chat messages, template hash, api_spec version).
+    #[arg(long)]
+    json: bool,
 }
 
 fn default_jobs() -> usize {
@@ -273,6 +373,22 @@ pub enum BenchCommand {
         #[arg(long, value_name = "DIR", default_value = "eval/demo/pulley_group/0")]
         video: PathBuf,
     },
+    /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
+    /// mock server with a fixed latency.
+    Llm {
+        /// The mock server's latency per request, ms.
+        #[arg(long, value_name = "MS", default_value_t = 50)]
+        latency_ms: u64,
+        /// Concurrency levels (comma-separated).
+        #[arg(long, value_name = "N,...", value_delimiter = ',', default_values_t = [1, 8, 32, 128])]
+        jobs: Vec<usize>,
+        /// Requests-per-minute limits to check (comma-separated).
+        #[arg(long, value_name = "N,...", value_delimiter = ',', default_values_t = [600, 3000])]
+        rpm: Vec<u32>,
+        /// Seconds each rate limit is measured over.
+        #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+        rpm_seconds: f64,
+    },
 }
 
 impl EngineArgs {
@@ -313,7 +429,8 @@ impl RunArgs {
             resume: self.resume,
             cache: self.cache,
             offline: self.offline,
-            jobs: self.jobs.unwrap_or_else(default_jobs).max(1),
+            jobs: self.jobs.and_then(|jobs| usize::try_from(jobs).ok()),
+            llm: self.model.into_settings(),
             limit: self.limit,
             shard: self.shard,
             quiet: self.quiet,
@@ -331,8 +448,8 @@ impl Cli {
     /// The request this command line asks for.
     pub fn into_request(self) -> Request {
         match self.command {
-            None => Request::Run(self.run.into_settings()),
-            Some(Command::Run(args)) => Request::Run(args.into_settings()),
+            None => Request::Run(Box::new(self.run.into_settings())),
+            Some(Command::Run(args)) => Request::Run(Box::new(args.into_settings())),
             Some(Command::Exec(args)) => Request::Exec(ExecSettings {
                 perception: args.engine.perception(),
                 dynamics: args.engine.dynamics(),
@@ -364,6 +481,25 @@ impl Cli {
             Some(Command::Cache(CacheCommand::Ls { cache })) => {
                 Request::CacheList(CacheSettings { cache })
             }
+            Some(Command::Render(args)) => Request::Render(RenderSettings {
+                data: args.data,
+                questions: args.questions,
+                question_id: args.question_id,
+                option: args.option,
+                per_question: args.per_question,
+                json: args.json,
+            }),
+            Some(Command::Bench(BenchCommand::Llm {
+                latency_ms,
+                jobs,
+                rpm,
+                rpm_seconds,
+            })) => Request::BenchLlm(BenchLlmSettings {
+                latency_ms,
+                jobs,
+                rpm,
+                rpm_seconds,
+            }),
             Some(Command::Bench(BenchCommand::Sandbox { units, jobs, video })) => {
                 Request::BenchSandbox(BenchSettings {
                     units,

@@ -4,12 +4,17 @@
 #![expect(
     clippy::unwrap_used,
     clippy::expect_used,
+    clippy::panic,
     reason = "integration tests fail by panicking, helpers included"
 )]
 
+mod api_spec;
 mod architecture;
 mod cli;
 mod exec;
+mod llm;
+mod llm_run;
 mod pipeline;
+mod prompt;
 mod shards;
 mod support;

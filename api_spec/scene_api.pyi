@@ -1,0 +1,364 @@
+"""The ContPhy scene API (ContPRO, ICML 2024, listing "Full API"), as this evaluator binds it.
+
+A program answers one question about one video. It defines `execute_command(video)`; the
+evaluator calls it with the `video` below and scores the value it returns. Everything in this
+file is already defined: do not import it. The only importable module is `math`; files, the
+network, `eval`/`exec`/`open`/`getattr`/`dir` and names starting with `_` are unavailable.
+
+Scenarios and their objects (the words `SoftScene.find` understands):
+
+- rope:  cube, sphere, pulley (solid or hollow, static or dynamic), rope, fixed point
+- fluid: fluid, container, stick, emitter
+- cloth: cloth, pillar, plate
+- ball:  ball, stick, pit, floating wall
+
+Only rope videos can be answered by this version: on a fluid, cloth or ball video every query
+raises `SceneUnavailableError`. The signatures below are the paper's for all four scenarios.
+
+Errors: a wrong call (unknown word, unknown property or action, an empty list where one object
+is needed, a wrong argument type) raises `SceneApiError` with a message that says what is
+allowed. A program should not catch it: fix the call instead.
+"""
+
+class SceneApiError(Exception):
+    """Raised when the API is called wrongly; the message says what is allowed."""
+
+class SceneUnavailableError(SceneApiError):
+    """The call is well formed but this video cannot answer it (for example a scenario without a
+    backend, or a counterfactual run the video does not have)."""
+
+class SceneDataError(SceneApiError):
+    """The video's files are missing or broken."""
+
+class Video:
+    """The video a program is given: `execute_command(video)` receives the global `video`.
+
+    It cannot be created by a program; pass it to `SoftScene(video, scene_name)`.
+    """
+
+    video_id: str
+    """The video's id (its folder name), e.g. '0'."""
+
+    scene_name: str
+    """The video's scenario: 'rope', 'fluid', 'cloth' or 'ball'."""
+
+video: Video
+"""The video of the question."""
+
+class SceneObject:
+    """One object of the scene, as `SoftScene.find` returns it.
+
+    Objects compare equal when they are the same object, and can be put in sets and dict keys.
+    Text attributes are lower case.
+    """
+
+    name: str
+    """The short name used in questions, e.g. 'purple cube', 'blue solid pulley', 'green rope'."""
+
+    full_name: str
+    """The annotation name, e.g. 'Blue Solid Static Pulley (0 1)'."""
+
+    color: str
+    """Colour words, e.g. 'blue', 'light blue'."""
+
+    kind: str
+    """The object class: rope scenes have 'cube', 'sphere', 'pulley', 'rope', 'fixed point'."""
+
+    type: str
+    """The same as `kind` (the paper's name for it)."""
+
+    shape: str | None
+    """Pulleys: 'solid' (the small ones) or 'hollow' (the big ones); None for other objects."""
+
+    dynamic: str
+    """'dynamic' for loads (cubes, spheres), ropes and movable pulleys; 'static' for static
+    pulleys and fixed points."""
+
+class SceneEvent:
+    """An event registered with `SoftScene.register_event`; pass it to
+    `SoftScene.init_dyn_simulation`. It cannot be created directly."""
+
+class SoftScene:
+    """A soft scene (rope/fluid/cloth/ball) of one video and the objects in it.
+
+    The paper's attributes `video`, `frm_num` and `simulation` are internal and not exposed.
+    """
+
+    scene_name: str
+    """The name of the scene: 'rope', 'fluid', 'cloth' or 'ball'."""
+
+    mode: str
+    """'online' or 'offline'. This evaluator answers from pre-computed (offline) annotations."""
+
+    vid: str
+    """The video id."""
+
+    start_frame: int
+    """The first frame given to the constructor (0 by default)."""
+
+    end_frame: int
+    """The end frame given to the constructor (-1, the end of the video, by default)."""
+
+    all_event_actions: list[str]
+    """The actions `register_event` knows: ['increase', 'decrease', 'emit', 'remove', 'simulate']."""
+
+    def __init__(
+        self,
+        video: Video,
+        scene_name: str,
+        start_frame: int = 0,
+        end_frame: int = -1,
+        mode: str | None = None,
+        video_id: str | None = None,
+    ) -> None:
+        """Opens the scene of `video`.
+
+        Parameters
+        ----------
+        video : Video
+            The `video` given to `execute_command`.
+        scene_name : str
+            'rope', 'fluid', 'cloth' or 'ball'; must be the video's scenario, otherwise
+            `SceneApiError` ('this video is a rope scene, not `fluid`').
+        start_frame, end_frame : int
+            Frame range; the default is the whole video.
+        mode : str | None
+            'online' or 'offline'; None means 'offline'.
+        video_id : str | None
+            If given, must be the video's id.
+
+        Nothing is loaded until the first query, so opening a scene is free.
+
+        Examples
+        --------
+        >>> rope_scene = SoftScene(video, 'rope')
+        """
+
+    def find(self, object_name: str) -> list[SceneObject]:
+        """Returns the objects matching every word of `object_name`, in a fixed scene order;
+        an empty list when none matches.
+
+        Words understood (case-insensitive, plurals allowed, 'the'/'a'/'any'/'object(s)'
+        ignored):
+        - colours: red, orange, yellow, green, cyan, blue, purple, pink, brown, gray (or grey),
+          black, white, light blue, light green, light yellow, light coral, light purple.
+          Colours match exactly: 'blue' does not find a 'light blue' object.
+        - kinds: the scenario's objects (rope: cube, sphere, pulley, rope, fixed point; 'load'
+          means a cube or a sphere). A kind of another scenario ('container' in a rope scene)
+          finds nothing.
+        - pulley shapes: solid (also small, little), hollow (also big, large); a shape alone
+          means a pulley.
+        - dynamics: static, dynamic (also movable).
+        - a grid id `(layer column)` at the end, as in full names: 'blue pulley (0 1)'.
+        Any other word raises `SceneApiError` listing the vocabulary; so does naming two
+        different colours or kinds in one call (find one description at a time).
+
+        Parameters
+        ----------
+        object_name : str
+            A description such as 'purple cube', 'blue solid pulley', 'rope', 'green', ''.
+            An empty string finds every object.
+
+        Returns
+        -------
+        list[SceneObject]
+            The matching objects; `len(...)` counts them.
+
+        Examples
+        --------
+        >>> # How many blue objects are there in the video?
+        >>> blue_objects = rope_scene.find("blue")
+        >>> return len(blue_objects)
+
+        >>> # Is there any gray hollow pulley in the video?
+        >>> return bool_to_yesno(len(rope_scene.find("gray hollow pulley")) > 0)
+        """
+
+    def query_single(self, property: str, object: SceneObject | list[SceneObject]) -> float | None:
+        """Returns one property value of one object, or None when the video cannot tell it.
+
+        Call `query_pair` instead of calling this twice when comparing two objects: only
+        `query_pair` knows whether the two values can be compared.
+
+        Parameters
+        ----------
+        property : str
+            'mass', 'tension', 'density', 'elasticity', 'plasticity' or 'bending'.
+            Rope scenes have:
+            - 'mass' of a cube or sphere, in kg (the benchmark's nominal mass, e.g. 0.15, 0.2,
+              0.25; a load hanging under a movable pulley reads about double, e.g. 0.4);
+            - 'tension' of a rope, in N: the weight (m * 9.81) of the load the rope carries;
+              None when the rope carries loads of different masses or none.
+            Other properties, or mass of a pulley or rope, tension of a non-rope, raise
+            `SceneApiError`.
+        object : SceneObject | list[SceneObject]
+            One object, or the list `find` returned holding exactly one object (an empty list
+            or a list of two raises `SceneApiError`).
+
+        Returns
+        -------
+        float | None
+        """
+
+    def query_pair(
+        self,
+        property: str,
+        object1: SceneObject | list[SceneObject],
+        object2: SceneObject | list[SceneObject],
+    ) -> tuple[float | None, float | None]:
+        """Returns the property values of two objects to be compared, or (None, None) when the
+        video cannot compare them.
+
+        Rope scenes: two loads (or two ropes) can be compared only when they hang in the same
+        mechanically coupled rope-pulley group; across groups the result is (None, None) and
+        the question's answer is "can not answer". Same properties, units and object rules as
+        `query_single`.
+
+        Parameters
+        ----------
+        property : str
+            The property, e.g. 'mass' or 'tension'.
+        object1, object2 : SceneObject | list[SceneObject]
+            The two objects (each one object, or a one-object list as `find` returns).
+
+        Returns
+        -------
+        tuple[float | None, float | None]
+            Both values, or (None, None).
+
+        Examples
+        --------
+        >>> # Is the mass of the green cube greater than half that of the purple cube?
+        >>> green_mass, purple_mass = rope_scene.query_pair('mass', rope_scene.find("green cube"), rope_scene.find("purple cube"))
+        >>> if green_mass is None or purple_mass is None:
+        >>>     return "can not answer"
+        >>> return bool_to_yesno(green_mass > 0.5 * purple_mass)
+        """
+
+    def register_event(
+        self,
+        scene_objects: SceneObject | list[SceneObject],
+        action: str,
+        attribute: str | SceneObject | list[SceneObject] = "",
+    ) -> SceneEvent:
+        """Creates the event that starts a dynamic scene (counterfactual, goal-driven or
+        predictive); pass the result to `init_dyn_simulation`.
+
+        Parameters
+        ----------
+        scene_objects : SceneObject | list[SceneObject]
+            The object the event changes (at most one), or [] for 'simulate' and 'remove'.
+        action : str
+            One of `all_event_actions`: 'increase', 'decrease', 'emit', 'remove', 'simulate'.
+            Rope scenes support:
+            - 'increase' / 'decrease' with attribute 'mass' and one cube or sphere: the
+              counterfactual "if the <load> were much heavier / lighter";
+            - 'simulate' with [] and attribute '': the factual future of the video.
+            'emit' (fluid) and 'remove' (fluid sticks, ball floating walls) raise
+            `SceneApiError` in rope scenes.
+        attribute : str | SceneObject | list[SceneObject]
+            What changes: 'mass' for increase/decrease, '' for simulate; for 'remove' a
+            description such as 'green stick' (or the objects).
+
+        Returns
+        -------
+        SceneEvent
+
+        Examples
+        --------
+        >>> # If the purple cube were much lighter, ...
+        >>> cf_init_event = rope_scene.register_event(rope_scene.find("purple cube"), "decrease", "mass")
+        >>> rope_cf_scene = rope_scene.init_dyn_simulation(cf_init_event)
+
+        >>> # If we want the green cube to move down, what can we do? | Increase the mass of the pink sphere
+        >>> gd_init_event = rope_scene.register_event(rope_scene.find("pink sphere"), "increase", "mass")
+        >>> rope_gd_scene = rope_scene.init_dyn_simulation(gd_init_event)
+        """
+
+    def event(
+        self,
+        scene_objects: SceneObject | list[SceneObject],
+        action: str,
+        attribute: str | SceneObject | list[SceneObject] = "",
+    ) -> SceneEvent:
+        """The same as `register_event` (the paper's examples use both names)."""
+
+    def init_dyn_simulation(self, dyn_init_event: SceneEvent) -> SoftDynamicScene:
+        """Starts the dynamic scene (predictive, counterfactual or goal-driven) that
+        `dyn_init_event` describes.
+
+        Parameters
+        ----------
+        dyn_init_event : SceneEvent
+            The event `register_event` returned.
+
+        Returns
+        -------
+        SoftDynamicScene
+        """
+
+class SoftDynamicScene:
+    """The dynamic scene started by an event: the same objects as its `SoftScene`, with the
+    event's outcome. Created by `SoftScene.init_dyn_simulation`, not directly."""
+
+    scene_name: str
+    """The scene's name, as in its SoftScene."""
+
+    all_dyn_actions: list[str]
+    """The actions `happen` knows: ['entering', 'passing', 'motion', 'rotation', 'collision',
+    'falling', 'touching', 'droping']."""
+
+    def happen(
+        self,
+        scene_objects: SceneObject | list[SceneObject],
+        action: str,
+        target: str | SceneObject | list[SceneObject] = "",
+    ) -> bool:
+        """Whether `action` (with `target`) happens to the object in this dynamic scene.
+
+        Parameters
+        ----------
+        scene_objects : SceneObject | list[SceneObject]
+            Exactly one object, e.g. `[green_cube]` or the one-object list `find` returned.
+        action : str
+            One of `all_dyn_actions`. Rope scenes answer:
+            - 'motion' of a cube, sphere, pulley or fixed point, target 'up', 'down' or
+              'stationary' (does not move);
+            - 'rotation' of a pulley, target 'clockwise', 'anti-clockwise' or 'stationary'
+              (does not rotate).
+            Ropes have no motion result; only pulleys rotate. 'entering', 'passing',
+            'collision', 'falling', 'touching', 'droping' belong to the other scenarios and
+            raise `SceneApiError` in rope scenes.
+        target : str | SceneObject | list[SceneObject]
+            A direction word (rope), a description ('red container') or objects (fluid, ball
+            and cloth targets such as `[black_container]`); may be ''.
+
+        Returns
+        -------
+        bool
+            True if it happens.
+
+        Examples
+        --------
+        >>> # If the purple cube were much heavier, which direction would the blue pulley rotate? | Clockwise
+        >>> cf_init_event = rope_scene.register_event(rope_scene.find("purple cube"), "increase", "mass")
+        >>> rope_cf_scene = rope_scene.init_dyn_simulation(cf_init_event)
+        >>> return bool_to_yesno(rope_cf_scene.happen(rope_scene.find("blue pulley"), "rotation", "clockwise"))
+        """
+
+def bool_to_yesno(bool_answer: object, /) -> str:
+    """Returns 'yes' if `bool_answer` is true (Python truthiness), otherwise 'no'.
+
+    Examples
+    --------
+    >>> bool_to_yesno(3 > 2)
+    'yes'
+    """
+
+def query_both(
+    property: str,
+    object1: SceneObject | list[SceneObject],
+    object2: SceneObject | list[SceneObject],
+) -> tuple[float | None, float | None]:
+    """`query_pair` on the program's video without naming the scene (the paper's listing calls it
+    this way): `query_both('mass', sphere, black_cube)`."""
