@@ -121,15 +121,20 @@ impl LlmSource {
                 Err(user_error(format!(
                     "model `{}` is not served by `{}` (it lists: {list}); check --model and --base-url",
                     self.model,
-                    self.client.endpoint()
+                    self.client.base_url()
                 )))
             }
             Err(error) if error.is_fatal_for_run() => Err(user_error(error)),
-            Err(error @ (LlmError::Connection { .. } | LlmError::Timeout { .. })) => {
-                Err(user_error(format!(
-                    "cannot reach the model server: {error}; check --base-url"
-                )))
-            }
+            Err(LlmError::Connection {
+                address, detail, ..
+            }) => Err(user_error(format!(
+                "cannot reach the model server `{}` ({address}): {detail}; check --base-url",
+                self.client.base_url()
+            ))),
+            Err(LlmError::Timeout { timeout_ms, .. }) => Err(user_error(format!(
+                "the model server `{}` did not answer within {timeout_ms} ms; check --base-url or raise --request-timeout",
+                self.client.base_url()
+            ))),
             // Listed (or no list to check against), or a busy or odd server: the requests
             // themselves retry and report.
             Ok(_) | Err(_) => Ok(()),
@@ -398,9 +403,12 @@ impl ProgramSource for LlmSource {
                             completion: Some(completion.content.clone()),
                             usage: Some(self.usage_of(key, completion.usage, completion.attempts)),
                         }),
+                        // The kind of the last attempt's error (`timeout`, not
+                        // `retries_exhausted`), so that reports group failures by cause; the
+                        // message tells the attempts.
                         Some(Err(error)) => Err(UnitError {
                             stage: Stage::Llm,
-                            kind: error.kind().to_string(),
+                            kind: error.root().kind().to_string(),
                             message: error.to_string(),
                         }),
                         None => Err(UnitError {

@@ -57,7 +57,7 @@ pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
             let letter = letter.to_ascii_uppercase();
             let option = question.options.iter().find(|o| o.letter == letter);
             Some(option.ok_or_else(|| {
-                let letters: String = question.options.iter().map(|o| o.letter).collect();
+                let letters = option_letters(&question);
                 user_error(format!(
                     "question `{}` has no option {letter} (its options: {letters})",
                     question.id.0
@@ -71,7 +71,7 @@ pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
             )));
         }
         (None, true) if !settings.per_question => {
-            let letters: String = question.options.iter().map(|o| o.letter).collect();
+            let letters = option_letters(&question);
             return Err(user_error(format!(
                 "question `{}` is multiple choice: pick an option with --option (one of {letters}) or pass --per-question",
                 question.id.0
@@ -144,4 +144,14 @@ fn question_files(
         )));
     }
     Ok(files)
+}
+
+/// `A, B, C`: the option letters of a choice question.
+fn option_letters(question: &Question) -> String {
+    question
+        .options
+        .iter()
+        .map(|o| o.letter.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -115,7 +115,7 @@ impl Client {
         })?;
         if !matches!(base.scheme(), "http" | "https") {
             return Err(invalid(format!(
-                "base url `{}` must be http or https",
+                "base url `{}` must start with http:// or https:// (e.g. http://localhost:8000/v1)",
                 redacted_url(&config.base_url)
             )));
         }
@@ -192,6 +192,11 @@ impl Client {
     /// The configuration this client was made with.
     pub fn config(&self) -> &ClientConfig {
         &self.inner.config
+    }
+
+    /// The base URL as configured, without credentials, for messages.
+    pub fn base_url(&self) -> String {
+        redacted_url(&self.inner.config.base_url)
     }
 
     /// The endpoint requests go to, without credentials.
@@ -767,7 +772,7 @@ mod tests {
             (|c| c.base_url = "not a url".into(), "is not a URL"),
             (
                 |c| c.base_url = "ftp://127.0.0.1/".into(),
-                "must be http or https",
+                "must start with http:// or https://",
             ),
             (|c| c.max_attempts = 0, "max_attempts"),
             (|c| c.rpm = Some(0), "rpm and tpm"),

@@ -4,9 +4,11 @@
 //! with SIGKILL and resumed, an offline replay, and the errors a new user meets.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 use std::sync::Arc;
+use std::time::Duration;
 
 use contphy_eval::dataset::{Question, load_question_file};
 use contphy_eval::llm::mock::{MOCK_MODEL, MockReply, MockRequest, MockServer, MockServerBuilder};
@@ -327,4 +329,598 @@ fn per_question_mode_asks_once_per_choice_question_and_scores_like_per_option() 
     assert_eq!(chat, distinct_prompts.len());
     let results = read_json(&out.join("results.json"));
     assert!(all_correct(&results), "{results}");
+}
+
+/// The units of the first `limit` demo questions, in order.
+fn first_units(limit: usize) -> Vec<String> {
+    demo_questions()
+        .iter()
+        .take(limit)
+        .flat_map(|q| q.units().into_iter().map(|(unit, _)| unit))
+        .collect()
+}
+
+/// Failed units by `stage/kind`.
+fn failures_by_kind(run: &Path) -> BTreeMap<String, usize> {
+    let mut failures = BTreeMap::new();
+    for prediction in predictions(run) {
+        let error = &prediction["error"];
+        if !error.is_null() {
+            let kind = format!(
+                "{}/{}",
+                error["stage"].as_str().unwrap(),
+                error["kind"].as_str().unwrap()
+            );
+            *failures.entry(kind).or_insert(0) += 1;
+        }
+    }
+    failures
+}
+
+#[test]
+fn each_endpoint_fault_fails_or_delays_only_its_own_unit() {
+    // With one request in flight, the n-th chat request meets the n-th behaviour below; after
+    // the list, the model is perfect. Retries take the next behaviour.
+    let answers = perfect_answers();
+    let counter = std::sync::atomic::AtomicUsize::new(0);
+    let responder = perfect(Arc::clone(&answers));
+    let faults: Vec<Option<MockReply>> = vec![
+        Some(MockReply::rate_limited("1")),
+        None, // the 429's retry, after Retry-After: succeeds
+        Some(MockReply::error(500, "upstream overloaded", None)),
+        None, // the 500's retry: succeeds
+        Some(MockReply::Malformed),
+        Some(MockReply::NoChoices),
+        Some(MockReply::ok("")),
+        Some(MockReply::ok("I am sorry, I cannot write that program.")),
+        Some(MockReply::error(
+            400,
+            "This model's maximum context length is 8192 tokens.",
+            Some("context_length_exceeded"),
+        )),
+        Some(MockReply::Huge {
+            bytes: 20 * 1024 * 1024,
+            declare_length: false,
+        }),
+        Some(MockReply::Hang),
+        Some(MockReply::Hang), // the hang's retry hangs too: the unit times out
+    ];
+    let server = MockServer::builder().responder(move |request| {
+        let index = counter.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        match faults.get(index).cloned().flatten() {
+            Some(fault) => fault,
+            None => responder(request),
+        }
+    });
+    let mock = Mock::start(server);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("faults");
+    let output = run(
+        &run_args(
+            &mock.url(),
+            out.to_str().unwrap(),
+            &[
+                "--limit",
+                "40",
+                "--jobs",
+                "1",
+                "--repair",
+                "0",
+                "--request-timeout",
+                "1",
+                "--max-attempts",
+                "2",
+            ],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+
+    // No unit lost or counted twice, and exactly the faulty ones failed, each with its cause.
+    let units: Vec<String> = predictions(&out)
+        .iter()
+        .map(|p| p["unit"].as_str().unwrap().to_owned())
+        .collect();
+    assert_eq!(units, first_units(40));
+    let expected: BTreeMap<String, usize> = [
+        ("llm/malformed", 1),
+        ("llm/no_choices", 1),
+        ("llm/empty_completion", 1),
+        ("extract/no_code", 1),
+        ("llm/context_length", 1),
+        ("llm/too_large", 1),
+        ("llm/timeout", 1),
+    ]
+    .into_iter()
+    .map(|(kind, count)| (kind.to_owned(), count))
+    .collect();
+    assert_eq!(failures_by_kind(&out), expected);
+
+    // The retried units succeeded after two requests each; nothing else was retried.
+    let retried: Vec<u64> = predictions(&out)
+        .iter()
+        .filter_map(|p| p["usage"]["requests"].as_u64())
+        .filter(|&requests| requests > 1)
+        .collect();
+    assert_eq!(retried, vec![2, 2]);
+    let chat = mock
+        .server
+        .requests()
+        .iter()
+        .filter(|r| r.path.ends_with("/chat/completions"))
+        .count();
+    let distinct: BTreeSet<String> = mock
+        .server
+        .requests()
+        .iter()
+        .filter_map(first_user_text)
+        .collect();
+    assert_eq!(chat, distinct.len() + 3, "two retries and the hang's retry");
+    let results = read_json(&out.join("results.json"));
+    assert_eq!(results["scores"]["units_answered"].as_u64().unwrap() + 7, {
+        results["scores"]["units"].as_u64().unwrap()
+    });
+}
+
+#[test]
+fn a_broken_program_gets_one_repair_turn_that_shows_the_error() {
+    // The first completion of every prompt has a syntax error; the repair turn gets the program.
+    let answers = perfect_answers();
+    let server = MockServer::builder().responder(move |request| {
+        let messages = request
+            .json
+            .as_ref()
+            .and_then(|j| j["messages"].as_array().cloned())
+            .unwrap_or_default();
+        let first = first_user_text(request).unwrap_or_default();
+        if messages.len() <= 2 {
+            MockReply::ok("```python\ndef execute_command(video)\n    return 'yes'\n```")
+        } else {
+            let feedback = messages.last().unwrap()["content"].as_str().unwrap();
+            assert!(feedback.contains("syntax"), "{feedback}");
+            MockReply::ok(answers.get(&first).cloned().unwrap_or_default())
+        }
+    });
+    let mock = Mock::start(server);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("repair");
+    let output = run(
+        &run_args(&mock.url(), out.to_str().unwrap(), &["--limit", "10"]),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let predictions = predictions(&out);
+    assert_eq!(predictions.len(), first_units(10).len());
+    for prediction in &predictions {
+        assert!(prediction["error"].is_null(), "{prediction}");
+        assert!(prediction["correct"].as_bool().unwrap(), "{prediction}");
+        let attempts = prediction["attempts"].as_array().unwrap();
+        assert_eq!(attempts.len(), 2, "{prediction}");
+    }
+    // Without repair turns every unit fails at the sandbox stage.
+    let out = dir.path().join("no-repair");
+    let output = run(
+        &run_args(
+            &mock.url(),
+            out.to_str().unwrap(),
+            &["--limit", "10", "--repair", "0"],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(
+        failures_by_kind(&out),
+        BTreeMap::from([("sandbox/syntax".to_owned(), first_units(10).len())])
+    );
+}
+
+/// The exit code and stderr of a run, with the mock's port and temporary paths made stable.
+fn transcript_entry(title: &str, output: &Output, temp: &Path) -> String {
+    let text = stderr(output).replace(temp.to_str().unwrap(), "[TMP]");
+    let port = regex_free_port_filter(&text);
+    format!(
+        "## {title}\nexit {}\n{port}\n",
+        output.status.code().unwrap_or(-1)
+    )
+}
+
+/// `127.0.0.1:<port>` → `127.0.0.1:PORT` (ports differ per run).
+fn regex_free_port_filter(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find("127.0.0.1:") {
+        let (before, after) = rest.split_at(at + "127.0.0.1:".len());
+        out.push_str(before);
+        let digits = after.chars().take_while(char::is_ascii_digit).count();
+        out.push_str(if digits > 0 { "PORT" } else { "" });
+        rest = &after[digits..];
+    }
+    out.push_str(rest);
+    out
+}
+
+#[test]
+fn new_user_mistakes_get_one_clear_line_and_exit_1() {
+    let mock = Mock::start(MockServer::builder());
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
+    let mut transcript = String::new();
+    let cases: Vec<(&str, Vec<String>, Option<&str>)> = vec![
+        (
+            "no key for the default endpoint",
+            vec!["--model".into(), "gpt-4".into()],
+            None,
+        ),
+        (
+            "base url that is not a URL",
+            vec![
+                "--model".into(),
+                MOCK_MODEL.into(),
+                "--base-url".into(),
+                "localhost:8000".into(),
+            ],
+            None,
+        ),
+        (
+            "unreachable host",
+            vec![
+                "--model".into(),
+                MOCK_MODEL.into(),
+                "--base-url".into(),
+                "http://127.0.0.1:9/v1".into(),
+            ],
+            None,
+        ),
+        (
+            "unknown model",
+            vec![
+                "--model".into(),
+                "gpt-9".into(),
+                "--base-url".into(),
+                mock.url(),
+            ],
+            Some(SECRET_KEY),
+        ),
+        (
+            "offline without a cache entry needs no key and fails per unit, not per run",
+            vec![
+                "--model".into(),
+                "gpt-4".into(),
+                "--offline".into(),
+                "--cache".into(),
+                out("empty-cache"),
+                "--limit".into(),
+                "1".into(),
+            ],
+            None,
+        ),
+    ];
+    for (index, (title, extra, key)) in cases.into_iter().enumerate() {
+        let run_dir = out(&format!("run{index}"));
+        let mut args = vec![
+            "run",
+            "--data",
+            "eval/demo",
+            "--questions",
+            QUESTIONS,
+            "--out",
+            &run_dir,
+            "--quiet",
+        ];
+        args.extend(extra.iter().map(String::as_str));
+        let output = run(&args, key);
+        let entry = transcript_entry(title, &output, dir.path());
+        if index < 4 {
+            assert_eq!(output.status.code(), Some(1), "{entry}");
+            assert_eq!(stderr(&output).lines().count(), 1, "{entry}");
+        } else {
+            assert_eq!(output.status.code(), Some(0), "{entry}");
+        }
+        transcript.push_str(&entry);
+    }
+    // Only the unknown-model case reached the server, and only its model list.
+    let paths: Vec<String> = mock
+        .server
+        .requests()
+        .iter()
+        .map(|r| r.path.clone())
+        .collect();
+    assert_eq!(paths, vec!["/v1/models".to_owned()]);
+    insta::assert_snapshot!("llm_new_user_errors", transcript);
+}
+
+#[test]
+fn a_rejected_key_or_unknown_model_mid_run_stops_at_the_first_unit_with_exit_1() {
+    for (reply, expected) in [
+        (
+            MockReply::error(
+                401,
+                "Incorrect API key provided: sk-...cret.",
+                Some("invalid_api_key"),
+            ),
+            "refused the credentials (401)",
+        ),
+        (
+            MockReply::error(
+                404,
+                "The model `mock-model` does not exist",
+                Some("model_not_found"),
+            ),
+            "does not serve model `mock-model`",
+        ),
+    ] {
+        let mock = Mock::start(MockServer::builder().responder(move |_| reply.clone()));
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("run");
+        let output = run(
+            &run_args(&mock.url(), out.to_str().unwrap(), &["--jobs", "1"]),
+            Some(SECRET_KEY),
+        );
+        assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+        assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+        assert!(!stderr(&output).contains(SECRET_KEY));
+        let chat = mock
+            .server
+            .requests()
+            .iter()
+            .filter(|r| r.path.ends_with("/chat/completions"))
+            .count();
+        assert_eq!(chat, 1, "the run went on after a fatal answer");
+        // Nothing was recorded as a unit failure: the run stopped before any unit finished.
+        assert!(predictions(&out).is_empty());
+    }
+}
+
+#[test]
+fn runs_killed_at_random_points_and_resumed_end_equal_to_an_uninterrupted_run() {
+    // Latency stretches the run over a few seconds, so the kills land in the completion phase,
+    // in the sandbox phase, or while predictions are written.
+    // (About 380 completions at 2 in flight: 2 s uninterrupted.)
+    let mock = Mock::start(
+        MockServer::builder()
+            .latency(Duration::from_millis(10))
+            .responder(perfect(perfect_answers())),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    // The uninterrupted run: the builtin writer's, which a perfect model equals byte for byte
+    // (the first test of this file).
+    let whole = dir.path().join("whole");
+    let output = run(
+        &[
+            "run",
+            "--data",
+            "eval/demo",
+            "--questions",
+            QUESTIONS,
+            "--out",
+            whole.to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let needed: BTreeSet<String> = demo_questions()
+        .iter()
+        .flat_map(|q| {
+            q.units()
+                .into_iter()
+                .map(|(_, option)| render(q, option, PromptMode::PerOption).unwrap().user)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+
+    let killed = dir.path().join("killed");
+    // Kill delays from a fixed-seed generator (xorshift), 150..1150 ms.
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut kills = 0;
+    // Up to 16 rounds: the early ones die while completions arrive, the later ones (everything
+    // cached) while programs run and predictions are written.
+    for _ in 0..16 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let delay = Duration::from_millis(150 + state % 1000);
+        let mut child = command(
+            &run_args(
+                &mock.url(),
+                killed.to_str().unwrap(),
+                &["--jobs", "2", "--resume"],
+            ),
+            None,
+        )
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+        std::thread::sleep(delay);
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        child.kill().unwrap(); // SIGKILL
+        child.wait().unwrap();
+        kills += 1;
+        let saved = fs_err::read_to_string(killed.join("predictions.jsonl"))
+            .map_or(0, |text| text.lines().count());
+        let cached = if killed.join("cache").is_dir() {
+            files_under(&killed.join("cache")).len()
+        } else {
+            0
+        };
+        eprintln!("kill {kills} after {delay:?}: {saved} predictions, {cached} cache entries");
+    }
+    assert!(kills >= 3, "only {kills} runs were still going when killed");
+    let output = run(
+        &run_args(
+            &mock.url(),
+            killed.to_str().unwrap(),
+            &["--jobs", "2", "--resume"],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_each_unit_once(&killed);
+    assert_eq!(
+        fs_err::read(whole.join("results.json")).unwrap(),
+        fs_err::read(killed.join("results.json")).unwrap()
+    );
+    // Completions cached before a kill are not bought again: at most the requests in flight at
+    // each kill (2) are repeated.
+    let chat = mock
+        .server
+        .requests()
+        .iter()
+        .filter(|r| r.path.ends_with("/chat/completions"))
+        .count();
+
+    // Everything is cached now: offline replays die while programs run and predictions are
+    // written, and the resumed replay still ends equal.
+    let replayed = dir.path().join("replayed");
+    let cache = killed.join("cache");
+    // Kill points are fractions of how long one whole replay takes on this machine.
+    let started = std::time::Instant::now();
+    let reference = dir.path().join("reference-replay");
+    let output = run(
+        &run_args(
+            "http://127.0.0.1:9/v1",
+            reference.to_str().unwrap(),
+            &["--offline", "--cache", cache.to_str().unwrap()],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let replay_time = started.elapsed();
+    let mut replay_kills = 0;
+    for _ in 0..16 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        #[expect(clippy::cast_precision_loss, reason = "a number below 1000")]
+        let fraction = 0.2 + 0.75 * ((state % 1000) as f64 / 1000.0);
+        let delay = replay_time.mul_f64(fraction);
+        let mut child = command(
+            &run_args(
+                "http://127.0.0.1:9/v1",
+                replayed.to_str().unwrap(),
+                &["--offline", "--cache", cache.to_str().unwrap(), "--resume"],
+            ),
+            None,
+        )
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+        std::thread::sleep(delay);
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        child.kill().unwrap();
+        child.wait().unwrap();
+        replay_kills += 1;
+        let saved = fs_err::read_to_string(replayed.join("predictions.jsonl"))
+            .map_or(0, |text| text.lines().count());
+        eprintln!("replay kill {replay_kills} after {delay:?}: {saved} predictions");
+    }
+    let output = run(
+        &run_args(
+            "http://127.0.0.1:9/v1",
+            replayed.to_str().unwrap(),
+            &["--offline", "--cache", cache.to_str().unwrap(), "--resume"],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_each_unit_once(&replayed);
+    assert_eq!(
+        fs_err::read(whole.join("results.json")).unwrap(),
+        fs_err::read(replayed.join("results.json")).unwrap()
+    );
+    assert!(replay_kills >= 1, "no replay was still going when killed");
+
+    eprintln!(
+        "{kills} kills; {chat} completions for {} distinct prompts",
+        needed.len()
+    );
+    assert!(
+        chat <= needed.len() + kills * 2,
+        "{chat} completions for a run that needs {}",
+        needed.len()
+    );
+}
+
+#[test]
+fn render_prints_exactly_the_messages_a_run_sends() {
+    let questions = load_question_file(&root().join("eval/demo/pulley_group_test.json"), None)
+        .unwrap()
+        .questions;
+    let choice = questions
+        .iter()
+        .find(|q| q.answer_type.is_choice())
+        .unwrap();
+    let option = &choice.options[1];
+    let expected = render(choice, Some(option), PromptMode::PerOption).unwrap();
+    let output = run(
+        &[
+            "render",
+            "--data",
+            "eval/demo",
+            "--question-id",
+            &choice.id.0,
+            "--option",
+            &option.letter.to_string(),
+            "--json",
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let printed: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    let messages = printed["messages"].as_array().unwrap();
+    assert_eq!(messages.last().unwrap()["content"], expected.user);
+    assert_eq!(printed["template_hash"], expected.template_hash);
+
+    // As text: role headers and the same user message.
+    let output = run(
+        &[
+            "render",
+            "--data",
+            "eval/demo",
+            "--question-id",
+            &choice.id.0,
+            "--per-question",
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let whole = render(choice, None, PromptMode::PerQuestion).unwrap();
+    assert!(stdout(&output).contains(&format!("===== user =====\n{}\n", whole.user)));
+
+    // Mistakes: one line each, exit 1.
+    let mut transcript = String::new();
+    for (title, args) in [
+        ("unknown id", vec!["--question-id", "99999"]),
+        (
+            "choice question without an option",
+            vec!["--question-id", &choice.id.0],
+        ),
+        (
+            "option letter it does not have",
+            vec!["--question-id", &choice.id.0, "--option", "Z"],
+        ),
+        (
+            "option on an open question",
+            vec!["--question-id", "00000", "--option", "A"],
+        ),
+    ] {
+        let mut full = vec!["render", "--data", "eval/demo"];
+        full.extend(args);
+        let output = run(&full, None);
+        assert_eq!(
+            output.status.code(),
+            Some(1),
+            "{title}: {}",
+            stderr(&output)
+        );
+        assert_eq!(stderr(&output).lines().count(), 1, "{title}");
+        write!(transcript, "## {title}\n{}\n", stderr(&output)).unwrap();
+    }
+    insta::assert_snapshot!("render_errors", transcript);
 }
