@@ -150,11 +150,16 @@ pub(crate) fn evaluate(
                         }
                         sample.pending = Some(obtained);
                     }
-                    Err(error) => {
+                    Err(failed) => {
+                        if let Some(usage) = &failed.usage {
+                            sample.usage.add(usage);
+                        }
+                        let error = failed.error;
                         sample.attempts.push(Attempt {
                             sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
                             attempt,
                             program_hash: None,
+                            program_key: failed.key,
                             error: Some(error.clone()),
                         });
                         let retry = error.stage == Stage::Extract
@@ -162,7 +167,7 @@ pub(crate) fn evaluate(
                             && sample.attempts.len() <= settings.repair as usize;
                         if retry {
                             sample.repairs.push(RepairTurn {
-                                completion: String::new(),
+                                completion: failed.completion.unwrap_or_default(),
                                 feedback: feedback(&error),
                             });
                         } else {
@@ -241,6 +246,7 @@ pub(crate) fn evaluate(
                     sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
                     attempt: u32::try_from(sample.attempts.len()).unwrap_or(u32::MAX),
                     program_hash: Some(obtained.program.hash()),
+                    program_key: obtained.program.key.clone(),
                     error: outcome.result.as_ref().err().cloned(),
                 });
                 match outcome.result {

@@ -17,7 +17,7 @@ use serde_json::{Value, json};
 
 use super::error::{AppError, Classify as _, user_error};
 use super::progress::Progress;
-use super::source::{CacheAccess, Lookup, Obtained, ProgramRequest, ProgramSource};
+use super::source::{CacheAccess, Failed, Lookup, Obtain, Obtained, ProgramRequest, ProgramSource};
 use crate::llm::{
     ChatMessage, ChatRequest, Client, ClientConfig, Completion, LlmError, Prices, SamplingParams,
     TokenUsage,
@@ -296,25 +296,36 @@ fn entry_of(key: &str, call: PendingCall, completion: &Completion) -> CacheEntry
     }
 }
 
-/// The program in a completion text, or the extract failure.
-fn program_from(completion: &str, key: &str, origin: ProgramOrigin) -> Result<Program, UnitError> {
-    extract_program(completion)
-        .map(|source| Program {
-            source,
-            origin,
+/// The program in a completion, or the extract failure with the completion (kept for the repair
+/// turn, the usage and the key a replay needs).
+fn obtained_from(completion: String, key: &str, origin: ProgramOrigin, usage: Usage) -> Obtain {
+    match extract_program(&completion) {
+        Ok(source) => Ok(Obtained {
+            program: Program {
+                source,
+                origin,
+                key: Some(key.to_string()),
+            },
+            completion: Some(completion),
+            usage: Some(usage),
+        }),
+        Err(error) => Err(Box::new(Failed {
+            error: UnitError {
+                stage: Stage::Extract,
+                kind: error.kind().to_string(),
+                message: error.to_string(),
+            },
             key: Some(key.to_string()),
-        })
-        .map_err(|error| UnitError {
-            stage: Stage::Extract,
-            kind: error.kind().to_string(),
-            message: error.to_string(),
-        })
+            completion: Some(completion),
+            usage: Some(usage),
+        })),
+    }
 }
 
 /// What became of one request before any call.
 enum Plan {
     /// Answered from the cache, or failed before a call.
-    Done(Result<Obtained, UnitError>),
+    Done(Obtain),
     /// Waits for the call with this key.
     Call(String),
 }
@@ -328,10 +339,7 @@ impl ProgramSource for LlmSource {
         true
     }
 
-    fn obtain_batch(
-        &self,
-        requests: &[ProgramRequest<'_>],
-    ) -> Result<Vec<Result<Obtained, UnitError>>, AppError> {
+    fn obtain_batch(&self, requests: &[ProgramRequest<'_>]) -> Result<Vec<Obtain>, AppError> {
         // 1. Messages, keys and cache lookups.
         let mut plans = Vec::with_capacity(requests.len());
         let mut pending: BTreeMap<String, PendingCall> = BTreeMap::new();
@@ -339,7 +347,7 @@ impl ProgramSource for LlmSource {
             let (messages, prompt) = match self.messages(request) {
                 Ok(parts) => parts,
                 Err(error) => {
-                    plans.push(Plan::Done(Err(error)));
+                    plans.push(Plan::Done(Err(error.into())));
                     continue;
                 }
             };
@@ -361,17 +369,15 @@ impl ProgramSource for LlmSource {
                         .details
                         .get("usage")
                         .and_then(|usage| serde_json::from_value(usage.clone()).ok());
-                    let result =
-                        program_from(&completion, &key, ProgramOrigin::Cache).map(|program| {
-                            Obtained {
-                                program,
-                                completion: Some(completion),
-                                usage: Some(self.usage_of(&key, usage, 0)),
-                            }
-                        });
-                    plans.push(Plan::Done(result));
+                    let usage = self.usage_of(&key, usage, 0);
+                    plans.push(Plan::Done(obtained_from(
+                        completion,
+                        &key,
+                        ProgramOrigin::Cache,
+                        usage,
+                    )));
                 }
-                Lookup::OfflineMiss(error) => plans.push(Plan::Done(Err(error))),
+                Lookup::OfflineMiss(error) => plans.push(Plan::Done(Err(error.into()))),
                 Lookup::Miss => {
                     pending.entry(key.clone()).or_insert_with(|| PendingCall {
                         request: chat,
@@ -393,16 +399,12 @@ impl ProgramSource for LlmSource {
                 Plan::Done(result) => result.clone(),
                 Plan::Call(key) => {
                     match calls.get(key) {
-                        Some(Ok(completion)) => program_from(
-                            &completion.content,
+                        Some(Ok(completion)) => obtained_from(
+                            completion.content.clone(),
                             key,
                             ProgramOrigin::Llm,
-                        )
-                        .map(|program| Obtained {
-                            program,
-                            completion: Some(completion.content.clone()),
-                            usage: Some(self.usage_of(key, completion.usage, completion.attempts)),
-                        }),
+                            self.usage_of(key, completion.usage, completion.attempts),
+                        ),
                         // The kind of the last attempt's error (`timeout`, not
                         // `retries_exhausted`), so that reports group failures by cause; the
                         // message tells the attempts.
@@ -410,12 +412,14 @@ impl ProgramSource for LlmSource {
                             stage: Stage::Llm,
                             kind: error.root().kind().to_string(),
                             message: error.to_string(),
-                        }),
+                        }
+                        .into()),
                         None => Err(UnitError {
                             stage: Stage::Llm,
                             kind: "not_sent".to_string(),
                             message: "the request was not sent: the run stopped first".to_string(),
-                        }),
+                        }
+                        .into()),
                     }
                 }
             })

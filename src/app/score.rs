@@ -262,9 +262,18 @@ pub(crate) fn cache_export(settings: &CacheExportSettings) -> Result<ExitCode, A
     }
     let cache = ProgramCache::new(&settings.cache);
     let mut keys: Vec<String> = Vec::new();
+    let mut seen = BTreeSet::new();
+    // Every attempt's key: the voted program, the other samples, the repaired-away attempts
+    // and completions that held no program; an offline replay asks for all of them.
     for prediction in run.read_predictions()? {
-        if let Some(key) = prediction.program_key.filter(|key| !keys.contains(key)) {
-            keys.push(key);
+        let attempt_keys = prediction
+            .attempts
+            .iter()
+            .filter_map(|a| a.program_key.clone());
+        for key in prediction.program_key.into_iter().chain(attempt_keys) {
+            if seen.insert(key.clone()) {
+                keys.push(key);
+            }
         }
     }
     let mut lines = String::new();

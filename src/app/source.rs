@@ -50,6 +50,34 @@ pub(crate) struct Obtained {
     pub(crate) usage: Option<Usage>,
 }
 
+/// A request that yielded no program: why, and what there is of it (an LLM completion that held
+/// no code is cached, costs tokens and is shown to the model in a repair turn).
+#[derive(Debug, Clone)]
+pub(crate) struct Failed {
+    /// Why.
+    pub(crate) error: UnitError,
+    /// The cache key of the completion, when there is one (a replay needs it).
+    pub(crate) key: Option<String>,
+    /// The completion text, when there is one.
+    pub(crate) completion: Option<String>,
+    /// Tokens, cost and requests spent on it.
+    pub(crate) usage: Option<Usage>,
+}
+
+impl From<UnitError> for Box<Failed> {
+    fn from(error: UnitError) -> Box<Failed> {
+        Box::new(Failed {
+            error,
+            key: None,
+            completion: None,
+            usage: None,
+        })
+    }
+}
+
+/// What a source gives for one request (the failure boxed: it is rare and large).
+pub(crate) type Obtain = Result<Obtained, Box<Failed>>;
+
 /// Where a run's programs come from.
 pub(crate) trait ProgramSource {
     /// The name shown in reports and manifests (`builtin`, the model).
@@ -59,10 +87,7 @@ pub(crate) trait ProgramSource {
     fn can_repair(&self) -> bool;
     /// Obtains programs for `requests`, in order. A unit's failure is an `Err` inside the vector;
     /// an error that must stop the run (a rejected API key, an unknown model) is the outer `Err`.
-    fn obtain_batch(
-        &self,
-        requests: &[ProgramRequest<'_>],
-    ) -> Result<Vec<Result<Obtained, UnitError>>, AppError>;
+    fn obtain_batch(&self, requests: &[ProgramRequest<'_>]) -> Result<Vec<Obtain>, AppError>;
     /// What the manifest records about the source.
     fn describe(&self) -> Value;
 }
@@ -126,10 +151,7 @@ pub(crate) struct BuiltinSource {
 pub(crate) const BUILTIN_SOURCE: &str = "builtin";
 
 impl BuiltinSource {
-    fn obtain(
-        &self,
-        request: &ProgramRequest<'_>,
-    ) -> Result<Result<Obtained, UnitError>, AppError> {
+    fn obtain(&self, request: &ProgramRequest<'_>) -> Result<Obtain, AppError> {
         let question = request.question;
         let key_material = json!({
             "source": BUILTIN_SOURCE,
@@ -152,7 +174,7 @@ impl BuiltinSource {
                     usage: None,
                 }));
             }
-            Lookup::OfflineMiss(error) => return Ok(Err(error)),
+            Lookup::OfflineMiss(error) => return Ok(Err(error.into())),
             Lookup::Miss => {}
         }
         let written = if request.whole_question {
@@ -167,7 +189,8 @@ impl BuiltinSource {
                     stage: Stage::Program,
                     kind: "unrecognised".to_string(),
                     message: error.to_string(),
-                }));
+                }
+                .into()));
             }
         };
         self.cache.record(CacheEntry {
@@ -200,10 +223,7 @@ impl ProgramSource for BuiltinSource {
         false
     }
 
-    fn obtain_batch(
-        &self,
-        requests: &[ProgramRequest<'_>],
-    ) -> Result<Vec<Result<Obtained, UnitError>>, AppError> {
+    fn obtain_batch(&self, requests: &[ProgramRequest<'_>]) -> Result<Vec<Obtain>, AppError> {
         requests
             .iter()
             .map(|request| self.obtain(request))

@@ -125,6 +125,10 @@ pub struct Attempt {
     pub attempt: u32,
     /// blake3 of the program, when one was obtained.
     pub program_hash: Option<String>,
+    /// The program's cache key (also of a completion that held no program), which a replay
+    /// and `cache export` need.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub program_key: Option<String>,
     /// Why the attempt failed, if it did.
     pub error: Option<UnitError>,
 }

@@ -924,3 +924,118 @@ fn render_prints_exactly_the_messages_a_run_sends() {
     }
     insta::assert_snapshot!("render_errors", transcript);
 }
+
+#[test]
+fn samples_are_cached_apart_and_the_majority_answer_wins_and_an_export_replays_elsewhere() {
+    // The first completion for each prompt answers wrongly (the opposite yes/no); later ones
+    // are right. With three samples, the majority is right whichever sample met the bad one.
+    let answers = perfect_answers();
+    let seen = std::sync::Mutex::new(BTreeMap::<String, usize>::new());
+    let server = MockServer::builder().responder(move |request| {
+        let prompt = first_user_text(request).unwrap_or_default();
+        let mut seen = seen.lock().unwrap();
+        let count = seen.entry(prompt.clone()).or_insert(0);
+        *count += 1;
+        if *count == 1 {
+            MockReply::ok("```python\ndef execute_command(video):\n    return 'wrong answer'\n```")
+        } else {
+            MockReply::ok(answers.get(&prompt).cloned().unwrap_or_default())
+        }
+    });
+    let mock = Mock::start(server);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("samples");
+    let output = run(
+        &run_args(
+            &mock.url(),
+            out.to_str().unwrap(),
+            &["--limit", "12", "--samples", "3", "--repair", "0"],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let predictions = predictions(&out);
+    assert_eq!(predictions.len(), first_units(12).len());
+    for prediction in &predictions {
+        assert!(prediction["correct"].as_bool().unwrap(), "{prediction}");
+        assert_eq!(
+            prediction["attempts"].as_array().unwrap().len(),
+            3,
+            "{prediction}"
+        );
+    }
+    let prompts: BTreeSet<String> = mock
+        .server
+        .requests()
+        .iter()
+        .filter_map(first_user_text)
+        .collect();
+    let chat = mock
+        .server
+        .requests()
+        .iter()
+        .filter(|r| r.path.ends_with("/chat/completions"))
+        .count();
+    assert_eq!(
+        chat,
+        3 * prompts.len(),
+        "one completion per sample and prompt"
+    );
+
+    // Export the run's programs, import them into another cache, replay offline: same results.
+    let exported = dir.path().join("run.jsonl");
+    let cache = out.join("cache");
+    let output = run(
+        &[
+            "cache",
+            "export",
+            "--cache",
+            cache.to_str().unwrap(),
+            "--run",
+            out.to_str().unwrap(),
+            "--out",
+            exported.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let lines = fs_err::read_to_string(&exported).unwrap().lines().count();
+    assert_eq!(lines, 3 * prompts.len());
+    let elsewhere = dir.path().join("elsewhere-cache");
+    let output = run(
+        &[
+            "cache",
+            "import",
+            "--cache",
+            elsewhere.to_str().unwrap(),
+            exported.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    drop(mock);
+    let replay = dir.path().join("replay");
+    let output = run(
+        &run_args(
+            "http://127.0.0.1:9/v1",
+            replay.to_str().unwrap(),
+            &[
+                "--limit",
+                "12",
+                "--samples",
+                "3",
+                "--repair",
+                "0",
+                "--offline",
+                "--cache",
+                elsewhere.to_str().unwrap(),
+            ],
+        ),
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(
+        fs_err::read(out.join("results.json")).unwrap(),
+        fs_err::read(replay.join("results.json")).unwrap()
+    );
+}
