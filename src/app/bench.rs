@@ -2,7 +2,8 @@
 //!
 //! `bench llm` runs `llm::run_bench`: the client against a loopback mock with a fixed latency,
 //! throughput per concurrency level as a fraction of the ideal `jobs / latency`, and the request
-//! rate achieved under each `--rpm` limit.
+//! rate achieved under each `--rpm` limit; beside it, in the same run, CPython's standard library
+//! (`benches/cpython_llm_peer.py`: thread pool, `http.client`) at the same levels.
 //!
 //! `bench sandbox` measures what the sandbox costs:
 //!
@@ -30,6 +31,9 @@ use crate::sandbox::{
     self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec,
 };
 use crate::scene_api::{DynamicsBackend, PerceptionBackend, VideoSpec};
+
+/// The CPython peer of `bench llm`.
+const CPYTHON_LLM_PEER: &str = include_str!("../../benches/cpython_llm_peer.py");
 
 /// The CPython side: a stub of the scene API plus a timing harness.
 const CPYTHON_STUB: &str = include_str!("../../benches/cpython_stub_api.py");
@@ -286,8 +290,60 @@ pub(crate) fn bench_llm(settings: &BenchLlmSettings) -> Result<ExitCode, AppErro
         ..crate::llm::BenchConfig::default()
     };
     let report = crate::llm::run_bench(&config).internal()?;
+    let levels: Vec<(usize, usize)> = config
+        .jobs_levels
+        .iter()
+        .map(|&jobs| (jobs, (jobs * config.rounds).max(config.min_requests)))
+        .collect();
+    let peer = match llm_peer(config.latency, &levels) {
+        Ok(peer) => peer,
+        Err(error) => json!({ "error": error }),
+    };
+    let report = json!({
+        "client": report,
+        "peer_cpython_http_client": peer,
+    });
     let text = serde_json::to_string_pretty(&report).internal()?;
     let mut stdout = std::io::stdout().lock();
     let _ = writeln!(stdout, "{text}");
     Ok(ExitCode::SUCCESS)
+}
+
+/// The peer of `bench llm`: CPython's standard library (thread pool, `http.client`) sending the
+/// same requests to the same kind of mock, at the same concurrency levels, in the same run.
+fn llm_peer(latency: Duration, levels: &[(usize, usize)]) -> Result<Value, String> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(|e| e.to_string())?;
+    let server = runtime
+        .block_on(
+            crate::llm::mock::MockServer::builder()
+                .latency(latency)
+                .start(),
+        )
+        .map_err(|e| e.to_string())?;
+    let request = json!({
+        "url": server.base_url(),
+        "latency_ms": latency.as_secs_f64() * 1e3,
+        "levels": levels,
+    });
+    let mut child = Command::new("python3")
+        .args(["-c", CPYTHON_LLM_PEER])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("python3: {e}"))?;
+    if let Some(mut stdin) = child.stdin.take() {
+        stdin
+            .write_all(request.to_string().as_bytes())
+            .map_err(|e| e.to_string())?;
+    }
+    let output = child.wait_with_output().map_err(|e| e.to_string())?;
+    drop(server);
+    if !output.status.success() {
+        return Err(format!("the CPython peer failed ({})", output.status));
+    }
+    serde_json::from_slice(&output.stdout).map_err(|e| format!("the CPython peer's output: {e}"))
 }
