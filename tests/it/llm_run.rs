@@ -1039,3 +1039,40 @@ fn samples_are_cached_apart_and_the_majority_answer_wins_and_an_export_replays_e
         fs_err::read(replay.join("results.json")).unwrap()
     );
 }
+
+#[test]
+fn bench_llm_prints_json_with_the_client_and_its_peer() {
+    let output = run(
+        &[
+            "bench",
+            "llm",
+            "--latency-ms",
+            "2",
+            "--jobs",
+            "1,4",
+            "--rpm",
+            "6000",
+            "--rpm-seconds",
+            "0.3",
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let report: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    let points = report["client"]["throughput"].as_array().unwrap();
+    let jobs: Vec<u64> = points.iter().map(|p| p["jobs"].as_u64().unwrap()).collect();
+    assert_eq!(jobs, vec![1, 4]);
+    for point in points {
+        assert_eq!(point["failures"], 0, "{point}");
+        assert!(point["max_in_flight"].as_u64().unwrap() <= point["jobs"].as_u64().unwrap());
+    }
+    let limits = report["client"]["rate_limits"].as_array().unwrap();
+    assert_eq!(limits.len(), 1);
+    assert_eq!(limits[0]["rpm_limit"], 6000);
+    // The peer needs python3; without it the report says why instead of failing.
+    let peer = &report["peer_cpython_http_client"];
+    assert!(
+        peer["throughput"].is_array() || peer["error"].is_string(),
+        "{peer}"
+    );
+}
