@@ -201,7 +201,9 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let predictions = run_dir.read_predictions()?;
     let scores = score(&eval_questions, &predictions, &priors);
     run_dir.write_json("results.json", &json!({ "scores": scores }))?;
+    let usage = run_usage(&predictions);
     let meta = ReportMeta {
+        usage,
         run_name: out.file_name().map_or_else(
             || out.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
@@ -227,7 +229,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let report = render_run_report(&meta, &scores);
     run_dir.write_text("report.md", &report)?;
     manifest.finished_unix_ms = unix_ms();
-    manifest.usage = run_usage(&predictions);
+    manifest.usage = usage;
     run_dir.write_manifest(&manifest)?;
 
     let mut stdout = std::io::stdout().lock();
@@ -298,6 +300,13 @@ fn program_source(
         stop: llm.stop.clone(),
     };
     let prices = Prices::resolve(llm.prices.as_deref()).user()?;
+    if settings.samples > 1 && llm.temperature == Some(0.0) {
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "warning: --samples {} at --temperature 0 draws near-identical programs; self-consistency needs a temperature above 0",
+            settings.samples
+        );
+    }
     let source = LlmSource::new(
         LlmSourceSettings {
             client,

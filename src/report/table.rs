@@ -23,7 +23,7 @@ pub struct Table2Row {
 }
 
 /// What the report header says about the run.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ReportMeta {
     /// A short name for the run (its folder name).
     pub run_name: String,
@@ -33,6 +33,8 @@ pub struct ReportMeta {
     pub backends: String,
     /// Which questions were evaluated (file names, split).
     pub questions: String,
+    /// LLM tokens, cost and requests of the run (`None` without a model).
+    pub usage: Option<crate::score::Usage>,
 }
 
 fn percent(correct: f64, total: u64) -> f64 {
@@ -105,6 +107,17 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# contphy-eval report: {}\n", meta.run_name);
     let _ = writeln!(out, "- program source: {}", meta.program_source);
+    if let Some(usage) = &meta.usage {
+        let cost = usage.cost_usd.map_or_else(
+            || "cost unknown (model not in the price table)".to_string(),
+            |usd| format!("${usd:.4} at list prices"),
+        );
+        let _ = writeln!(
+            out,
+            "- LLM: {} requests in this run; {} prompt + {} completion tokens; {cost}",
+            usage.requests, usage.prompt_tokens, usage.completion_tokens
+        );
+    }
     let _ = writeln!(out, "- backends: {}", meta.backends);
     let _ = writeln!(out, "- questions: {}", meta.questions);
     let failed: u64 = scores

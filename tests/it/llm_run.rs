@@ -270,6 +270,11 @@ fn a_perfect_model_scores_every_unit_and_the_offline_replay_is_byte_identical() 
         chat.len() as u64
     );
     assert!(manifest["usage"]["prompt_tokens"].as_u64().unwrap() > 0);
+    let report = fs_err::read_to_string(live.join("report.md")).unwrap();
+    assert!(
+        report.contains(&format!("- LLM: {} requests in this run;", chat.len())),
+        "{report}"
+    );
     for file in files_under(dir.path()) {
         let bytes = fs_err::read(&file).unwrap();
         assert!(
