@@ -16,6 +16,7 @@ pub mod app;
 pub mod cli;
 pub mod dataset;
 pub mod llm;
+pub mod physics;
 pub mod program;
 pub mod prompt;
 pub mod report;

@@ -1,0 +1,682 @@
+//! Rope–pulley mechanics: planar networks of fixed points, static pulleys, movable pulleys and
+//! loads joined by ideal inextensible ropes (FORMAT.md §2).
+//!
+//! Units are SI: metres, kilograms, seconds, newtons; `y` points up and [`GRAVITY`] pulls down.
+//! Angles are radians, counter-clockwise positive as seen by the camera.
+//!
+//! **Model.** Every movable body (a load, or a movable pulley with what it carries) keeps its
+//! `x` and moves along `y`. A rope is a path from one end (a fixed point, a body, or a pulley's
+//! axle) over pulleys to the other end. A segment leaves a pulley at the rim point level with the
+//! axle on the side of its other end (chosen once, from the start geometry), so a load hanging
+//! under a rim hangs on a vertical segment, and a rope between pulleys of different columns runs
+//! diagonally as in the scenes; the arcs round the pulleys are taken as constant (exact for
+//! vertical segments, a small error for diagonal ones, whose wrap angle drifts slightly). A
+//! rope only pulls: it is a unilateral constraint `L(y) ≤ L₀` whose tension is its impulse. Loads
+//! stop on the floor, and a segment cannot shorten below the radii at its ends (a load that
+//! reaches its pulley stops there). Pulley inertia enters through the kinetic energy of the
+//! rope flowing over the pulley without slipping, `½ (I/R²) ṡ²`.
+//!
+//! **Integration.** Semi-implicit (symplectic) Euler on velocities with every constraint solved
+//! as one linear complementarity problem per step ([`super::linalg::solve_lcp`]): taut ropes,
+//! slack ropes that re-tighten (inelastically), floor contacts and segment stops are all the same
+//! kind of constraint. Position drift of taut ropes is removed in the next step (the constraint
+//! targets `L(y + dt·v) = L₀`). [`Mechanism::accelerations`] is the exact instantaneous solve
+//! (accelerations and tensions) that the analytic tests check against closed forms.
+//!
+//! Every step checks that positions, velocities and impulses are finite; a system that cannot
+//! be simulated is a typed [`SimulationError`], never a NaN in an answer.
+
+use super::linalg::{Matrix, solve, solve_lcp};
+
+/// Gravitational acceleration, m/s².
+pub const GRAVITY: f64 = 9.81;
+
+/// Rope length (m) by which a rope counts as taut in the instantaneous solve.
+const TAUT_TOLERANCE: f64 = 1e-9;
+
+/// A movable body: a load, or a movable pulley's frame (its pulley is a [`Pulley`] mounted on
+/// it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// The scene name (`Purple Cube`).
+    pub name: String,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Start position `(x, y)`, m.
+    pub position: [f64; 2],
+    /// Distance from the body's centre down to its bottom, m, when it can rest on the floor.
+    pub floor_clearance: Option<f64>,
+}
+
+/// Where a pulley's axle is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mount {
+    /// A static pulley at `(x, y)`, m.
+    Fixed([f64; 2]),
+    /// A movable pulley: the axle moves with this body.
+    Body(usize),
+}
+
+/// A pulley.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pulley {
+    /// The scene name.
+    pub name: String,
+    /// Radius, m.
+    pub radius: f64,
+    /// Moment of inertia about the axle, kg·m² (0 for an ideal pulley).
+    pub inertia: f64,
+    /// Where the axle is.
+    pub mount: Mount,
+}
+
+/// A point of a rope's path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Point {
+    /// A fixed point at `(x, y)`, m (ceiling or floor anchor).
+    Fixed([f64; 2]),
+    /// Tied to a body.
+    Body(usize),
+    /// Over a pulley (inside the path), or tied to its axle (at an end).
+    Pulley(usize),
+}
+
+/// A rope: a path of at least two points; the points inside are pulleys.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rope {
+    /// The scene name.
+    pub name: String,
+    /// End, pulleys, end.
+    pub path: Vec<Point>,
+}
+
+/// A whole mechanism as described: bodies, pulleys, ropes and an optional floor height (m).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Network {
+    /// Movable bodies.
+    pub bodies: Vec<Body>,
+    /// Pulleys.
+    pub pulleys: Vec<Pulley>,
+    /// Ropes.
+    pub ropes: Vec<Rope>,
+    /// Floor height, m.
+    pub floor: Option<f64>,
+}
+
+/// Why a mechanism cannot be simulated.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum SimulationError {
+    /// A parameter is out of range or not finite.
+    #[error("{object}: {problem}")]
+    InvalidParameter {
+        /// The body, pulley or rope.
+        object: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A rope segment has no length, so its direction (and the force it transmits) is undefined.
+    #[error("rope `{rope}`: segment {segment} has zero length; its direction is undefined")]
+    DegenerateSegment {
+        /// The rope.
+        rope: String,
+        /// Index of the segment along the path.
+        segment: usize,
+    },
+    /// The mass matrix or a constraint system is singular.
+    #[error("the mechanism's equations are singular ({context})")]
+    Singular {
+        /// Where.
+        context: String,
+    },
+    /// A value stopped being finite.
+    #[error("the simulation diverged at t = {time} s ({what} is not finite)")]
+    NonFinite {
+        /// Simulated time, s.
+        time: f64,
+        /// What.
+        what: String,
+    },
+}
+
+/// The state of a mechanism at one time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Time, s.
+    pub time: f64,
+    /// Body heights, m.
+    pub y: Vec<f64>,
+    /// Body vertical velocities, m/s.
+    pub v: Vec<f64>,
+    /// Pulley angles from the start, rad (counter-clockwise positive).
+    pub angles: Vec<f64>,
+    /// Rope tensions of the last step, N: the tension of each rope's last segment (with pulley
+    /// inertia, the segments before a pulley differ by its `I·α/R²`).
+    pub tensions: Vec<f64>,
+}
+
+/// One unilateral constraint `g(y) ≤ 0` with gradient `J`.
+struct Constraint {
+    gap: f64,
+    gradient: Vec<f64>,
+    /// Velocity-product term of `g̈` (`J̇·v`), for the instantaneous solve.
+    curvature: f64,
+}
+
+/// A checked network, ready to simulate.
+#[derive(Debug, Clone)]
+pub struct Mechanism {
+    network: Network,
+    /// Rest lengths of the ropes, m (their lengths at the start).
+    rest_lengths: Vec<f64>,
+    /// Per pulley pass: (rope, index in path, pulley, wrap sign: +1 counter-clockwise).
+    passes: Vec<(usize, usize, usize, f64)>,
+    /// Per rope, per segment: the x offsets (m) of the contact points from the two ends'
+    /// centres (±radius on the side facing the other end, 0 for bodies and fixed points).
+    offsets: Vec<Vec<(f64, f64)>>,
+}
+
+impl Mechanism {
+    /// Checks `network` and takes the ropes' start lengths as their lengths.
+    pub fn new(network: Network) -> Result<Mechanism, SimulationError> {
+        let invalid = |object: &str, problem: String| SimulationError::InvalidParameter {
+            object: object.to_string(),
+            problem,
+        };
+        for body in &network.bodies {
+            if !(body.mass.is_finite() && body.mass > 0.0) {
+                return Err(invalid(
+                    &body.name,
+                    format!("mass {} kg must be positive", body.mass),
+                ));
+            }
+            if !body.position.iter().all(|c| c.is_finite()) {
+                return Err(invalid(&body.name, "position is not finite".to_string()));
+            }
+        }
+        for pulley in &network.pulleys {
+            if !(pulley.radius.is_finite() && pulley.radius > 0.0) {
+                return Err(invalid(
+                    &pulley.name,
+                    format!("radius {} m must be positive", pulley.radius),
+                ));
+            }
+            if !(pulley.inertia.is_finite() && pulley.inertia >= 0.0) {
+                return Err(invalid(
+                    &pulley.name,
+                    format!("inertia {} must be non-negative", pulley.inertia),
+                ));
+            }
+            if let Mount::Body(index) = pulley.mount
+                && index >= network.bodies.len()
+            {
+                return Err(invalid(
+                    &pulley.name,
+                    format!("mounted on body {index}, which does not exist"),
+                ));
+            }
+        }
+        let mut passes = Vec::new();
+        let mut rest_lengths = Vec::new();
+        let start: Vec<f64> = network.bodies.iter().map(|b| b.position[1]).collect();
+        let mut mechanism = Mechanism {
+            network,
+            rest_lengths: Vec::new(),
+            passes: Vec::new(),
+            offsets: Vec::new(),
+        };
+        let ropes = mechanism.network.ropes.clone();
+        for (rope_index, rope) in ropes.iter().enumerate() {
+            if rope.path.len() < 2 {
+                return Err(invalid(&rope.name, "a rope needs two ends".to_string()));
+            }
+            for (position, point) in rope.path.iter().enumerate() {
+                let inside = position > 0 && position + 1 < rope.path.len();
+                match point {
+                    Point::Body(index) if *index >= mechanism.network.bodies.len() => {
+                        return Err(invalid(&rope.name, format!("body {index} does not exist")));
+                    }
+                    Point::Pulley(index) if *index >= mechanism.network.pulleys.len() => {
+                        return Err(invalid(
+                            &rope.name,
+                            format!("pulley {index} does not exist"),
+                        ));
+                    }
+                    Point::Fixed(p) if !p.iter().all(|c| c.is_finite()) => {
+                        return Err(invalid(
+                            &rope.name,
+                            "a fixed point is not finite".to_string(),
+                        ));
+                    }
+                    Point::Pulley(_) => {}
+                    _ if inside => {
+                        return Err(invalid(
+                            &rope.name,
+                            format!("point {position} is inside the path but not a pulley"),
+                        ));
+                    }
+                    _ => {}
+                }
+            }
+            let mut rope_offsets = Vec::new();
+            for segment in 0..rope.path.len() - 1 {
+                let (a, b) = (rope.path[segment], rope.path[segment + 1]);
+                let pa = mechanism.point_position(a, &start);
+                let pb = mechanism.point_position(b, &start);
+                let offset_a = mechanism.contact_offset(a, pa, pb);
+                let offset_b = mechanism.contact_offset(b, pb, pa);
+                let length = (pa[0] + offset_a - pb[0] - offset_b).hypot(pa[1] - pb[1]);
+                if length < 1e-9 {
+                    return Err(SimulationError::DegenerateSegment {
+                        rope: rope.name.clone(),
+                        segment,
+                    });
+                }
+                rope_offsets.push((offset_a, offset_b));
+            }
+            mechanism.offsets.push(rope_offsets);
+            for position in 1..rope.path.len() - 1 {
+                if let Point::Pulley(pulley) = rope.path[position] {
+                    let before = mechanism.point_position(rope.path[position - 1], &start);
+                    let at = mechanism.point_position(rope.path[position], &start);
+                    let after = mechanism.point_position(rope.path[position + 1], &start);
+                    let incoming = [at[0] - before[0], at[1] - before[1]];
+                    let outgoing = [after[0] - at[0], after[1] - at[1]];
+                    let cross = incoming[0] * outgoing[1] - incoming[1] * outgoing[0];
+                    // The path turns counter-clockwise round the pulley: material flowing along
+                    // it turns the pulley counter-clockwise. A straight horizontal pass rests on
+                    // the top (rope under gravity): flow to +x turns it clockwise. A straight
+                    // vertical pass turns nothing.
+                    let sign = if cross.abs() > 1e-12 {
+                        cross.signum()
+                    } else if (after[0] - before[0]).abs() > 1e-12 {
+                        -(after[0] - before[0]).signum()
+                    } else {
+                        0.0
+                    };
+                    passes.push((rope_index, position, pulley, sign));
+                }
+            }
+        }
+        for rope_index in 0..mechanism.network.ropes.len() {
+            rest_lengths.push(mechanism.rope_length(rope_index, &start));
+        }
+        mechanism.rest_lengths = rest_lengths;
+        mechanism.passes = passes;
+        Ok(mechanism)
+    }
+
+    /// The described network.
+    pub fn network(&self) -> &Network {
+        &self.network
+    }
+
+    /// Rest lengths of the ropes, m.
+    pub fn rest_lengths(&self) -> &[f64] {
+        &self.rest_lengths
+    }
+
+    /// The state at rest at the described positions.
+    pub fn initial_state(&self) -> State {
+        State {
+            time: 0.0,
+            y: self.network.bodies.iter().map(|b| b.position[1]).collect(),
+            v: vec![0.0; self.network.bodies.len()],
+            angles: vec![0.0; self.network.pulleys.len()],
+            tensions: vec![0.0; self.network.ropes.len()],
+        }
+    }
+
+    /// The body a point moves with.
+    fn body_of(&self, point: Point) -> Option<usize> {
+        match point {
+            Point::Body(index) => Some(index),
+            Point::Pulley(index) => match self.network.pulleys[index].mount {
+                Mount::Body(body) => Some(body),
+                Mount::Fixed(_) => None,
+            },
+            Point::Fixed(_) => None,
+        }
+    }
+
+    fn point_position(&self, point: Point, y: &[f64]) -> [f64; 2] {
+        match point {
+            Point::Fixed(p) => p,
+            Point::Body(index) => [self.network.bodies[index].position[0], y[index]],
+            Point::Pulley(index) => match self.network.pulleys[index].mount {
+                Mount::Fixed(p) => p,
+                Mount::Body(body) => [self.network.bodies[body].position[0], y[body]],
+            },
+        }
+    }
+
+    /// The x offset of the contact point of `point` (at `at`) in a segment towards `other`: a
+    /// pulley's rim on the side of `other`, level with its axle.
+    fn contact_offset(&self, point: Point, at: [f64; 2], other: [f64; 2]) -> f64 {
+        match point {
+            Point::Pulley(index) if (other[0] - at[0]).abs() > 1e-9 => {
+                self.network.pulleys[index].radius * (other[0] - at[0]).signum()
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// How close the two ends of a segment may come (m): a pulley's radius, a body's clearance.
+    fn clearance(&self, point: Point) -> f64 {
+        match point {
+            Point::Pulley(index) => self.network.pulleys[index].radius,
+            Point::Body(index) => self.network.bodies[index].floor_clearance.unwrap_or(0.0),
+            Point::Fixed(_) => 0.0,
+        }
+    }
+
+    /// Length, gradient over body heights and the velocity term of segment `segment` of `rope`.
+    fn segment(
+        &self,
+        rope: usize,
+        segment: usize,
+        heights: &[f64],
+        velocities: &[f64],
+    ) -> (f64, Vec<f64>, f64) {
+        let path = &self.network.ropes[rope].path;
+        let (a, b) = (path[segment], path[segment + 1]);
+        let (offset_a, offset_b) = self.offsets[rope][segment];
+        let pa = self.point_position(a, heights);
+        let pb = self.point_position(b, heights);
+        let d = [pa[0] + offset_a - pb[0] - offset_b, pa[1] - pb[1]];
+        let length = d[0].hypot(d[1]);
+        let mut gradient = vec![0.0; heights.len()];
+        let body_a = self.body_of(a);
+        let body_b = self.body_of(b);
+        if length <= 0.0 {
+            return (0.0, gradient, 0.0);
+        }
+        let dy = d[1] / length;
+        if let Some(i) = body_a {
+            gradient[i] += dy;
+        }
+        if let Some(i) = body_b {
+            gradient[i] -= dy;
+        }
+        // ℓ̈ = J·ÿ + (|Δṗ|² − ℓ̇²)/ℓ, with Δṗ = (0, v_a − v_b).
+        let relative =
+            body_a.map_or(0.0, |i| velocities[i]) - body_b.map_or(0.0, |i| velocities[i]);
+        let rate = d[1] * relative / length;
+        let curvature = (relative * relative - rate * rate) / length;
+        (length, gradient, curvature)
+    }
+
+    /// A rope's current length between contact points, m (arcs over pulleys left out).
+    pub fn rope_length(&self, rope: usize, y: &[f64]) -> f64 {
+        let zero = vec![0.0; y.len()];
+        (0..self.network.ropes[rope].path.len() - 1)
+            .map(|segment| self.segment(rope, segment, y, &zero).0)
+            .sum()
+    }
+
+    /// The rope length from the rope's start to path point `position`: its gradient (the rope
+    /// speed over that pulley is `gradient · v`).
+    fn flow_gradient(&self, rope: usize, position: usize, y: &[f64]) -> Vec<f64> {
+        let zero = vec![0.0; y.len()];
+        let mut total = vec![0.0; y.len()];
+        for segment in 0..position {
+            let (_, gradient, _) = self.segment(rope, segment, y, &zero);
+            for (t, g) in total.iter_mut().zip(gradient) {
+                *t += g;
+            }
+        }
+        total
+    }
+
+    /// The mass matrix at `y`: body masses plus the pulleys' rotational inertia.
+    fn mass_matrix(&self, heights: &[f64]) -> Matrix {
+        let count = heights.len();
+        let mut matrix = Matrix::zeros(count);
+        for (i, body) in self.network.bodies.iter().enumerate() {
+            matrix.add(i, i, body.mass);
+        }
+        for &(rope, position, pulley, _) in &self.passes {
+            let p = &self.network.pulleys[pulley];
+            if p.inertia > 0.0 {
+                let c = self.flow_gradient(rope, position, heights);
+                let factor = p.inertia / (p.radius * p.radius);
+                for i in 0..count {
+                    for j in 0..count {
+                        matrix.add(i, j, factor * c[i] * c[j]);
+                    }
+                }
+            }
+        }
+        matrix
+    }
+
+    /// Gravity on each body, N.
+    fn forces(&self) -> Vec<f64> {
+        self.network
+            .bodies
+            .iter()
+            .map(|b| -b.mass * GRAVITY)
+            .collect()
+    }
+
+    /// Every unilateral constraint at `(y, v)`: ropes first (one per rope, in order), then floor
+    /// contacts, then segment stops.
+    fn constraints(&self, heights: &[f64], velocities: &[f64]) -> Vec<Constraint> {
+        let count = heights.len();
+        let mut constraints = Vec::new();
+        for (index, rope) in self.network.ropes.iter().enumerate() {
+            let mut gradient = vec![0.0; count];
+            let mut curvature = 0.0;
+            let mut length = 0.0;
+            for segment in 0..rope.path.len() - 1 {
+                let (l, g, c) = self.segment(index, segment, heights, velocities);
+                length += l;
+                curvature += c;
+                for (t, gi) in gradient.iter_mut().zip(g) {
+                    *t += gi;
+                }
+            }
+            constraints.push(Constraint {
+                gap: length - self.rest_lengths[index],
+                gradient,
+                curvature,
+            });
+        }
+        if let Some(floor) = self.network.floor {
+            for (i, body) in self.network.bodies.iter().enumerate() {
+                if let Some(clearance) = body.floor_clearance {
+                    let mut gradient = vec![0.0; count];
+                    gradient[i] = -1.0;
+                    constraints.push(Constraint {
+                        gap: floor + clearance - heights[i],
+                        gradient,
+                        curvature: 0.0,
+                    });
+                }
+            }
+        }
+        for (index, rope) in self.network.ropes.iter().enumerate() {
+            for (segment, w) in rope.path.windows(2).enumerate() {
+                let (length, gradient, curvature) =
+                    self.segment(index, segment, heights, velocities);
+                if gradient.iter().any(|g| *g != 0.0) {
+                    let minimum = self.clearance(w[0]) + self.clearance(w[1]);
+                    constraints.push(Constraint {
+                        gap: minimum - length,
+                        gradient: gradient.iter().map(|g| -g).collect(),
+                        curvature: -curvature,
+                    });
+                }
+            }
+        }
+        constraints
+    }
+
+    /// `M⁻¹ · x`.
+    fn inverse_mass_times(
+        m: &Matrix,
+        x: &[f64],
+        context: &str,
+    ) -> Result<Vec<f64>, SimulationError> {
+        solve(m, x).ok_or_else(|| SimulationError::Singular {
+            context: context.to_string(),
+        })
+    }
+
+    /// The constraint-space system: `A = J M⁻¹ Jᵀ` and the columns `M⁻¹ Jᵀ`.
+    fn constraint_system(
+        m: &Matrix,
+        constraints: &[Constraint],
+    ) -> Result<(Matrix, Vec<Vec<f64>>), SimulationError> {
+        let columns: Vec<Vec<f64>> = constraints
+            .iter()
+            .map(|c| Self::inverse_mass_times(m, &c.gradient, "mass matrix"))
+            .collect::<Result<_, _>>()?;
+        let k = constraints.len();
+        let mut a = Matrix::zeros(k);
+        for (i, ci) in constraints.iter().enumerate() {
+            for (j, column) in columns.iter().enumerate() {
+                a.add(i, j, dot(&ci.gradient, column));
+            }
+        }
+        Ok((a, columns))
+    }
+
+    /// The exact accelerations (m/s²) and rope tensions (N) at `state`: ropes that are taut and
+    /// bodies that rest on the floor act; the rest are free.
+    pub fn accelerations(&self, state: &State) -> Result<(Vec<f64>, Vec<f64>), SimulationError> {
+        let m = self.mass_matrix(&state.y);
+        let force = self.forces();
+        let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
+        let all = self.constraints(&state.y, &state.v);
+        let active: Vec<(usize, &Constraint)> = all
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.gap >= -TAUT_TOLERANCE)
+            .collect();
+        let chosen: Vec<Constraint> = active
+            .iter()
+            .map(|(_, c)| Constraint {
+                gap: c.gap,
+                gradient: c.gradient.clone(),
+                curvature: c.curvature,
+            })
+            .collect();
+        let (a, columns) = Self::constraint_system(&m, &chosen)?;
+        let q: Vec<f64> = chosen
+            .iter()
+            .map(|c| -(dot(&c.gradient, &free) + c.curvature))
+            .collect();
+        let mut impulses = vec![0.0; chosen.len()];
+        solve_lcp(&a, &q, &mut impulses);
+        let mut acceleration = free;
+        for (column, lambda) in columns.iter().zip(&impulses) {
+            for (ai, ci) in acceleration.iter_mut().zip(column) {
+                *ai -= ci * lambda;
+            }
+        }
+        let mut tensions = vec![0.0; self.network.ropes.len()];
+        for ((index, _), lambda) in active.iter().zip(&impulses) {
+            if *index < tensions.len() {
+                tensions[*index] = *lambda;
+            }
+        }
+        check_finite(state.time, "acceleration", &acceleration)?;
+        Ok((acceleration, tensions))
+    }
+
+    /// Advances `state` by `dt` seconds (semi-implicit Euler with one LCP per step).
+    pub fn step(&self, state: &mut State, dt: f64) -> Result<(), SimulationError> {
+        let m = self.mass_matrix(&state.y);
+        let force = self.forces();
+        let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
+        let predicted: Vec<f64> = state.v.iter().zip(&free).map(|(v, a)| v + dt * a).collect();
+        let constraints = self.constraints(&state.y, &state.v);
+        let (a, columns) = Self::constraint_system(&m, &constraints)?;
+        // Target: g(y + dt·v⁺) ≤ 0 to first order, i.e. J·v⁺ ≤ −g/dt.
+        let q: Vec<f64> = constraints
+            .iter()
+            .map(|c| -(dot(&c.gradient, &predicted) + c.gap / dt))
+            .collect();
+        let mut impulses = vec![0.0; constraints.len()];
+        for (slot, tension) in impulses.iter_mut().zip(&state.tensions) {
+            *slot = tension * dt;
+        }
+        solve_lcp(&a, &q, &mut impulses);
+        check_finite(state.time, "rope impulse", &impulses)?;
+        let mut velocity = predicted;
+        for (column, lambda) in columns.iter().zip(&impulses) {
+            for (vi, ci) in velocity.iter_mut().zip(column) {
+                *vi -= ci * lambda;
+            }
+        }
+        check_finite(state.time, "velocity", &velocity)?;
+        // Pulley angles turn with the rope flowing over them.
+        for &(rope, position, pulley, sign) in &self.passes {
+            let flow = dot(&self.flow_gradient(rope, position, &state.y), &velocity);
+            let radius = self.network.pulleys[pulley].radius;
+            state.angles[pulley] += dt * sign * flow / radius;
+        }
+        for (y, v) in state.y.iter_mut().zip(&velocity) {
+            *y += dt * v;
+        }
+        check_finite(state.time, "position", &state.y)?;
+        state.v = velocity;
+        for (tension, lambda) in state.tensions.iter_mut().zip(&impulses) {
+            *tension = lambda / dt;
+        }
+        state.time += dt;
+        Ok(())
+    }
+
+    /// Kinetic plus potential energy, J (potential zero at `y = 0`).
+    pub fn energy(&self, state: &State) -> f64 {
+        let m = self.mass_matrix(&state.y);
+        let kinetic = 0.5 * dot(&state.v, &m.mul_vec(&state.v));
+        let potential: f64 = self
+            .network
+            .bodies
+            .iter()
+            .zip(&state.y)
+            .map(|(b, y)| b.mass * GRAVITY * y)
+            .sum();
+        kinetic + potential
+    }
+
+    /// Simulates `duration` seconds at step `dt` from `state`.
+    pub fn run(&self, state: &mut State, duration: f64, dt: f64) -> Result<(), SimulationError> {
+        if !(dt.is_finite() && dt > 0.0 && duration.is_finite() && duration >= 0.0) {
+            return Err(SimulationError::InvalidParameter {
+                object: "simulation".to_string(),
+                problem: format!("dt {dt} s and duration {duration} s must be positive"),
+            });
+        }
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "a positive step count, checked finite above"
+        )]
+        let steps = (duration / dt).round() as u64;
+        for _ in 0..steps {
+            self.step(state, dt)?;
+        }
+        Ok(())
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn check_finite(time: f64, what: &str, values: &[f64]) -> Result<(), SimulationError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SimulationError::NonFinite {
+            time,
+            what: what.to_string(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;
