@@ -6,6 +6,7 @@
 //! internal errors.
 
 mod bench;
+mod bench_physics;
 mod error;
 mod evaluate;
 mod exec;
@@ -22,9 +23,9 @@ mod source;
 
 pub use error::{AppError, ErrorClass};
 pub use settings::{
-    BenchLlmSettings, BenchSettings, Budgets, CacheExportSettings, CacheImportSettings,
-    CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, LlmSettings, QuestionsSettings, RenderSettings,
-    Request, RunSettings, ScoreSettings, SplitSelection,
+    BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
+    CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, LlmSettings,
+    QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 
 use std::io::Write as _;
@@ -42,6 +43,9 @@ pub fn execute(request: Request) -> ExitCode {
         Request::CacheImport(settings) => score::cache_import(&settings),
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
         Request::BenchLlm(settings) => bench::bench_llm(&settings),
+        Request::BenchPhysics(settings) => {
+            bench_physics::bench_physics(&settings.scenario, settings.svg.as_deref())
+        }
         Request::Render(settings) => render::render(&settings),
     };
     match result {

@@ -28,6 +28,8 @@ pub enum Request {
     BenchSandbox(BenchSettings),
     /// `bench llm`.
     BenchLlm(BenchLlmSettings),
+    /// `bench physics`.
+    BenchPhysics(BenchPhysicsSettings),
     /// `render`.
     Render(RenderSettings),
 }
@@ -147,6 +149,15 @@ pub struct RenderSettings {
     pub per_question: bool,
     /// Print the request as JSON (messages and key material) instead of text.
     pub json: bool,
+}
+
+/// `bench physics` settings.
+#[derive(Debug, Clone)]
+pub struct BenchPhysicsSettings {
+    /// The scenario's simulator (`rope`).
+    pub scenario: String,
+    /// Where to write the SVG plot.
+    pub svg: Option<PathBuf>,
 }
 
 /// `bench llm` settings.

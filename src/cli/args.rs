@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchLlmSettings, BenchSettings, Budgets, CacheExportSettings, CacheImportSettings,
-    CacheSettings, ExecSettings, LlmSettings, QuestionsSettings, RenderSettings, Request,
-    RunSettings, ScoreSettings, SplitSelection,
+    BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
+    CacheImportSettings, CacheSettings, ExecSettings, LlmSettings, QuestionsSettings,
+    RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
@@ -373,6 +373,16 @@ pub enum BenchCommand {
         #[arg(long, value_name = "DIR", default_value = "eval/demo/pulley_group/0")]
         video: PathBuf,
     },
+    /// Simulator accuracy: error against run time over a sweep of time steps (closed forms or a
+    /// fine reference), as JSON, with an optional SVG plot.
+    Physics {
+        /// The scenario whose simulator is measured.
+        #[arg(long, value_name = "SCENARIO", default_value = "rope")]
+        scenario: String,
+        /// Also write the plot of error against run time here.
+        #[arg(long, value_name = "FILE")]
+        svg: Option<PathBuf>,
+    },
     /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
     /// mock server with a fixed latency.
     Llm {
@@ -489,6 +499,9 @@ impl Cli {
                 per_question: args.per_question,
                 json: args.json,
             }),
+            Some(Command::Bench(BenchCommand::Physics { scenario, svg })) => {
+                Request::BenchPhysics(BenchPhysicsSettings { scenario, svg })
+            }
             Some(Command::Bench(BenchCommand::Llm {
                 latency_ms,
                 jobs,

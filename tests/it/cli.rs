@@ -126,3 +126,57 @@ fn invalid_trials_are_skipped_with_a_count() {
     );
     let _ = demo();
 }
+
+#[test]
+fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("rope.svg");
+    let output = contphy(
+        &root(),
+        &[
+            "bench",
+            "physics",
+            "--scenario",
+            "rope",
+            "--svg",
+            svg.to_str().unwrap(),
+        ],
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    let default_dt = report["default_dt_s"].as_f64().unwrap();
+    for case in report["cases"].as_array().unwrap() {
+        let sweep = case["sweep"].as_array().unwrap();
+        let errors: Vec<(f64, f64)> = sweep
+            .iter()
+            .map(|r| {
+                (
+                    r["dt_s"].as_f64().unwrap(),
+                    r["max_height_error_m"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        if case["reference"] == "closed form" {
+            // Semi-implicit Euler under constant acceleration: error = ½·|a|·dt·T exactly.
+            let per_dt = errors[0].1 / errors[0].0;
+            for (dt, error) in &errors {
+                assert!((error / dt / per_dt - 1.0).abs() < 0.01, "{case}");
+            }
+        }
+        let at_default = errors
+            .iter()
+            .find(|(dt, _)| (dt - default_dt).abs() < 1e-15)
+            .unwrap()
+            .1;
+        assert!(
+            at_default < 5e-3,
+            "{}: {at_default} m at the default step",
+            case["mechanism"]
+        );
+    }
+    let plot = fs_err::read_to_string(&svg).unwrap();
+    assert!(plot.starts_with("<svg") && plot.matches("<polyline").count() == 3);
+    let output = contphy(&root(), &["bench", "physics", "--scenario", "fluid"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("rope only"), "{}", stderr(&output));
+}
