@@ -610,11 +610,13 @@ impl Mechanism {
             }
         }
         check_finite(state.time, "velocity", &velocity)?;
-        // Pulley angles turn with the rope flowing over them.
+        // Pulley angles turn with the rope flowing over them. The rope length from the rope's
+        // start to the pulley grows when material flows back towards the start, so the forward
+        // flow (start → end, the direction `sign` is taken in) is its rate of shrinking.
         for &(rope, position, pulley, sign) in &self.passes {
-            let flow = dot(&self.flow_gradient(rope, position, &state.y), &velocity);
+            let forward = -dot(&self.flow_gradient(rope, position, &state.y), &velocity);
             let radius = self.network.pulleys[pulley].radius;
-            state.angles[pulley] += dt * sign * flow / radius;
+            state.angles[pulley] += dt * sign * forward / radius;
         }
         for (y, v) in state.y.iter_mut().zip(&velocity) {
             *y += dt * v;
