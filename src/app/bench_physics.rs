@@ -4,7 +4,7 @@
 //! Mechanisms: an Atwood machine with pulley inertia and a two-rope network with a movable
 //! pulley, both with closed-form trajectories (constant accelerations while the ropes stay
 //! taut), and a load landing on the floor so that its rope goes slack and re-tightens, whose
-//! reference is the same simulator at a step 100× finer than the finest swept. Error: the largest
+//! reference is the same simulator at a step 10× finer than the finest swept. Error: the largest
 //! difference of any body's height from the reference at the end, m.
 
 use std::fmt::Write as _;
@@ -20,8 +20,8 @@ use crate::physics::rope::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pull
 
 /// Simulated time per run, s.
 const DURATION: f64 = 1.0;
-/// Steps swept, s.
-const STEPS: [f64; 8] = [2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4];
+/// Steps swept by default, s.
+pub(crate) const STEPS: [f64; 8] = [2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4];
 /// The step `--dynamics simulate` uses; the sweep shows its error.
 pub(crate) const DEFAULT_DT: f64 = 1e-3;
 
@@ -65,6 +65,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
             path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
         }],
         floor: None,
+        turns: Vec::new(),
     })
     .internal()?;
     let a = GRAVITY * (m2 - m1) / (m1 + m2 + inertia / (radius * radius));
@@ -101,6 +102,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
             },
         ],
         floor: None,
+        turns: Vec::new(),
     })
     .internal()?;
     let q = -GRAVITY * (mp - ma - 2.0 * mb) / (ma + mp + 4.0 * mb);
@@ -117,6 +119,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
             path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
         }],
         floor: Some(-2.6),
+        turns: Vec::new(),
     };
     landing_network.bodies[0].floor_clearance = Some(0.1);
     let landing = Mechanism::new(landing_network).internal()?;
@@ -147,7 +150,14 @@ fn simulate(mechanism: &Mechanism, dt: f64) -> Result<(Vec<f64>, f64), AppError>
     Ok((state.y, started.elapsed().as_secs_f64() * 1e3))
 }
 
-pub(crate) fn bench_physics(scenario: &str, svg: Option<&Path>) -> Result<ExitCode, AppError> {
+pub(crate) fn bench_physics(
+    scenario: &str,
+    steps: &[f64],
+    svg: Option<&Path>,
+) -> Result<ExitCode, AppError> {
+    if steps.is_empty() || steps.iter().any(|dt| !(dt.is_finite() && *dt > 0.0)) {
+        return Err(user_error("bench physics: --dt needs positive time steps"));
+    }
     if scenario != "rope" {
         return Err(user_error(format!(
             "bench physics: no simulator for scenario `{scenario}` yet (rope only)"
@@ -159,7 +169,7 @@ pub(crate) fn bench_physics(scenario: &str, svg: Option<&Path>) -> Result<ExitCo
         let (reference, reference_kind) = if let Some(exact) = &case.exact {
             (exact.clone(), "closed form".to_string())
         } else {
-            let fine = STEPS[STEPS.len() - 1] / 100.0;
+            let fine = steps.iter().copied().fold(f64::INFINITY, f64::min) / 10.0;
             (
                 simulate(&case.mechanism, fine)?.0,
                 format!("dt = {fine:e} s"),
@@ -167,7 +177,7 @@ pub(crate) fn bench_physics(scenario: &str, svg: Option<&Path>) -> Result<ExitCo
         };
         let mut points = Vec::new();
         let mut rows = Vec::new();
-        for dt in STEPS {
+        for &dt in steps {
             // Best of three for the time; the heights are identical each time.
             let mut best = f64::INFINITY;
             let mut heights = Vec::new();

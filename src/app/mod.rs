@@ -44,7 +44,11 @@ pub fn execute(request: Request) -> ExitCode {
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
         Request::BenchLlm(settings) => bench::bench_llm(&settings),
         Request::BenchPhysics(settings) => {
-            bench_physics::bench_physics(&settings.scenario, settings.svg.as_deref())
+            let steps = settings
+                .steps
+                .clone()
+                .unwrap_or_else(|| bench_physics::STEPS.to_vec());
+            bench_physics::bench_physics(&settings.scenario, &steps, settings.svg.as_deref())
         }
         Request::Render(settings) => render::render(&settings),
     };

@@ -158,6 +158,8 @@ pub struct BenchPhysicsSettings {
     pub scenario: String,
     /// Where to write the SVG plot.
     pub svg: Option<PathBuf>,
+    /// Time steps to sweep, s (`None`: the default sweep).
+    pub steps: Option<Vec<f64>>,
 }
 
 /// `bench llm` settings.

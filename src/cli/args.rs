@@ -382,6 +382,9 @@ pub enum BenchCommand {
         /// Also write the plot of error against run time here.
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
+        /// Time steps to sweep, s (comma-separated; default 0.02 down to 0.0001).
+        #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
+        steps: Option<Vec<f64>>,
     },
     /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
     /// mock server with a fixed latency.
@@ -499,9 +502,15 @@ impl Cli {
                 per_question: args.per_question,
                 json: args.json,
             }),
-            Some(Command::Bench(BenchCommand::Physics { scenario, svg })) => {
-                Request::BenchPhysics(BenchPhysicsSettings { scenario, svg })
-            }
+            Some(Command::Bench(BenchCommand::Physics {
+                scenario,
+                svg,
+                steps,
+            })) => Request::BenchPhysics(BenchPhysicsSettings {
+                scenario,
+                svg,
+                steps,
+            }),
             Some(Command::Bench(BenchCommand::Llm {
                 latency_ms,
                 jobs,

@@ -138,6 +138,8 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
             "physics",
             "--scenario",
             "rope",
+            "--dt",
+            "0.02,0.01,0.001",
             "--svg",
             svg.to_str().unwrap(),
         ],
