@@ -66,6 +66,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
         }],
         floor: None,
         turns: Vec::new(),
+        drives: Vec::new(),
     })
     .internal()?;
     let a = GRAVITY * (m2 - m1) / (m1 + m2 + inertia / (radius * radius));
@@ -103,6 +104,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
         ],
         floor: None,
         turns: Vec::new(),
+        drives: Vec::new(),
     })
     .internal()?;
     let q = -GRAVITY * (mp - ma - 2.0 * mb) / (ma + mp + 4.0 * mb);
@@ -120,6 +122,7 @@ fn cases() -> Result<Vec<Case>, AppError> {
         }],
         floor: Some(-2.6),
         turns: Vec::new(),
+        drives: Vec::new(),
     };
     landing_network.bodies[0].floor_clearance = Some(0.1);
     let landing = Mechanism::new(landing_network).internal()?;

@@ -249,6 +249,9 @@ pub struct RopeAnnotation {
     pub id_to_object_name: Vec<(u32, String)>,
     /// Number of annotated frames (`perFrameAnnotations`), 0 if absent.
     pub frame_count: usize,
+    /// Layout positions `(x, y)` of every element (`metaSamplingData.name2position`): pulley
+    /// centres, anchors, and the loads' start positions. Empty when absent.
+    pub element_positions: IndexMap<String, [f64; 2]>,
 }
 
 impl RopeAnnotation {
@@ -328,6 +331,19 @@ impl RopeAnnotation {
         let counterfactuals = root.field("CounterFactualAnnotations", |n| {
             n.entries(parse_counterfactual_pair)
         })?;
+        let element_positions = root
+            .optional_field("metaSamplingData", |meta| {
+                meta.optional_field("name2position", |positions| {
+                    positions.entries(|name, xy| {
+                        let numbers = xy.numbers(Some(2))?;
+                        Ok((name.to_string(), [numbers[0], numbers[1]]))
+                    })
+                })
+            })?
+            .flatten()
+            .unwrap_or_default()
+            .into_iter()
+            .collect();
         let (id_to_object_name, frame_count) = root
             .optional_field("imgAnnotationDescriptions", |n| {
                 let names = n
@@ -361,6 +377,7 @@ impl RopeAnnotation {
             counterfactuals,
             id_to_object_name,
             frame_count,
+            element_positions,
         };
         annotation.check_names(&root)?;
         Ok(annotation)

@@ -105,6 +105,38 @@ pub struct Network {
     /// down from a pulley straight above and leaving on one side): `(rope, path position,
     /// turn)`. Passes not listed are inferred from the centres.
     pub turns: Vec<(usize, usize, Turn)>,
+    /// Static pulleys and fixed points moved by a hand (the pull counterfactuals).
+    pub drives: Vec<Drive>,
+}
+
+/// A static pulley or fixed point moved vertically at a constant speed for a distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drive {
+    /// What moves.
+    pub point: DrivenPoint,
+    /// Vertical speed, m/s (+ up).
+    pub velocity: f64,
+    /// When it starts, s.
+    pub start: f64,
+    /// How far it goes, m.
+    pub distance: f64,
+}
+
+/// The target of a [`Drive`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DrivenPoint {
+    /// A static pulley (by index).
+    Pulley(usize),
+    /// Every fixed rope point at exactly this position.
+    Fixed([f64; 2]),
+}
+
+impl Drive {
+    /// Vertical displacement at time `t`, m.
+    pub fn displacement(&self, t: f64) -> f64 {
+        let travelled = (self.velocity.abs() * (t - self.start).max(0.0)).min(self.distance);
+        travelled * self.velocity.signum()
+    }
 }
 
 /// Which way a rope's path turns round a pulley; a pulley the path turns counter-clockwise
@@ -199,6 +231,8 @@ pub struct Mechanism {
     turns: Vec<Vec<f64>>,
     /// Per rope, the bodies that move it.
     rope_bodies: Vec<Vec<usize>>,
+    /// The time driven points are placed at, s.
+    now: std::cell::Cell<f64>,
 }
 
 impl Mechanism {
@@ -250,6 +284,7 @@ impl Mechanism {
             passes: Vec::new(),
             turns: Vec::new(),
             rope_bodies: Vec::new(),
+            now: std::cell::Cell::new(0.0),
         };
         let ropes = mechanism.network.ropes.clone();
         for (rope_index, rope) in ropes.iter().enumerate() {
@@ -353,13 +388,26 @@ impl Mechanism {
 
     fn point_position(&self, point: Point, y: &[f64]) -> [f64; 2] {
         match point {
-            Point::Fixed(p) => p,
+            Point::Fixed(p) => self.driven(p, |target| target == DrivenPoint::Fixed(p)),
             Point::Body(index) => [self.network.bodies[index].position[0], y[index]],
             Point::Pulley(index) => match self.network.pulleys[index].mount {
-                Mount::Fixed(p) => p,
+                Mount::Fixed(p) => self.driven(p, |target| target == DrivenPoint::Pulley(index)),
                 Mount::Body(body) => [self.network.bodies[body].position[0], y[body]],
             },
         }
+    }
+
+    /// `at`, moved by the drive whose target matches, at the current time.
+    fn driven(&self, at: [f64; 2], matches: impl Fn(DrivenPoint) -> bool) -> [f64; 2] {
+        let now = self.now.get();
+        let lift: f64 = self
+            .network
+            .drives
+            .iter()
+            .filter(|drive| matches(drive.point))
+            .map(|drive| drive.displacement(now))
+            .sum();
+        [at[0], at[1] + lift]
     }
 
     /// The contact points of every segment of `rope` at heights `y`.
@@ -627,6 +675,7 @@ impl Mechanism {
     /// The exact accelerations (m/s²) and rope tensions (N) at `state`: ropes that are taut and
     /// bodies that rest on the floor act; the rest are free.
     pub fn accelerations(&self, state: &State) -> Result<(Vec<f64>, Vec<f64>), SimulationError> {
+        self.now.set(state.time);
         let m = self.mass_matrix(&state.y);
         let force = self.forces();
         let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
@@ -669,6 +718,19 @@ impl Mechanism {
 
     /// Advances `state` by `dt` seconds (semi-implicit Euler with one LCP per step).
     pub fn step(&self, state: &mut State, dt: f64) -> Result<(), SimulationError> {
+        // Driven points are placed where they will be at the end of the step, so the rope
+        // constraints ask the bodies to follow them within the step.
+        let driven = !self.network.drives.is_empty();
+        let flow_before: Vec<f64> = if driven {
+            self.now.set(state.time);
+            self.passes
+                .iter()
+                .map(|&(rope, position, _, _)| self.length_to(rope, position, &state.y))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.now.set(state.time + dt);
         let m = self.mass_matrix(&state.y);
         let force = self.forces();
         let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
@@ -696,8 +758,12 @@ impl Mechanism {
         // Pulley angles turn with the rope flowing over them. The rope length from the rope's
         // start to the pulley grows when material flows back towards the start, so the forward
         // flow (start → end, the direction `sign` is taken in) is its rate of shrinking.
-        for &(rope, position, pulley, sign) in &self.passes {
-            let forward = -dot(&self.flow_gradient(rope, position, &state.y), &velocity);
+        for (pass, &(rope, position, pulley, sign)) in self.passes.iter().enumerate() {
+            let mut forward = -dot(&self.flow_gradient(rope, position, &state.y), &velocity);
+            if let Some(before) = flow_before.get(pass) {
+                // The rope a moving anchor or pulley pulls over the pulley.
+                forward -= (self.length_to(rope, position, &state.y) - before) / dt;
+            }
             let radius = self.network.pulleys[pulley].radius;
             state.angles[pulley] += dt * sign * forward / radius;
         }

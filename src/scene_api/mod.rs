@@ -12,6 +12,7 @@
 mod error;
 mod object;
 mod rope;
+pub mod rope_sim;
 mod scene;
 mod vocabulary;
 

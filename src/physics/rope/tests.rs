@@ -50,6 +50,7 @@ fn atwood(m1: f64, m2: f64, inertia: f64) -> Mechanism {
         )],
         floor: None,
         turns: Vec::new(),
+        drives: Vec::new(),
     })
     .unwrap()
 }
@@ -140,6 +141,7 @@ fn movable_pulley_compound_system() {
             )],
             floor: None,
             turns: Vec::new(),
+            drives: Vec::new(),
         })
         .unwrap();
         let (a, tensions) = mechanism.accelerations(&mechanism.initial_state()).unwrap();
@@ -192,6 +194,7 @@ fn two_rope_network_matches_the_reduced_coordinate_closed_form() {
             ],
             floor: None,
             turns: Vec::new(),
+            drives: Vec::new(),
         })
         .unwrap();
         let (a, tensions) = mechanism.accelerations(&mechanism.initial_state()).unwrap();
@@ -266,6 +269,7 @@ fn a_load_reaching_its_pulley_stops_there() {
         )],
         floor: None,
         turns: Vec::new(),
+        drives: Vec::new(),
     };
     network.bodies[0].floor_clearance = Some(0.05);
     let mechanism = Mechanism::new(network).unwrap();
@@ -290,6 +294,7 @@ fn a_load_on_the_floor_lets_its_rope_go_slack() {
         )],
         floor: Some(-2.6),
         turns: Vec::new(),
+        drives: Vec::new(),
     };
     network.bodies[0].floor_clearance = Some(0.1);
     let mechanism = Mechanism::new(network).unwrap();
@@ -333,6 +338,7 @@ fn a_chain_of_six_pulleys_is_finite_and_balanced() {
             ropes: vec![rope("rope", path)],
             floor: None,
             turns: Vec::new(),
+            drives: Vec::new(),
         })
         .unwrap();
         let (a, tensions) = mechanism.accelerations(&mechanism.initial_state()).unwrap();
@@ -359,6 +365,7 @@ fn zero_length_segments_and_bad_parameters_are_typed_errors() {
         )],
         floor: None,
         turns: Vec::new(),
+        drives: Vec::new(),
     })
     .unwrap_err();
     assert_eq!(
@@ -441,10 +448,12 @@ fn the_real_videos_purple_rope_turns_its_pulleys_as_annotated() {
         )],
         floor: None,
         turns: vec![(0, 3, Turn::CounterClockwise)],
+        drives: Vec::new(),
     };
     // Inferred from the centres alone, Pink would turn the wrong way.
     let guessed = Mechanism::new(Network {
         turns: Vec::new(),
+        drives: Vec::new(),
         ..network.clone()
     })
     .unwrap();
@@ -468,4 +477,44 @@ fn the_real_videos_purple_rope_turns_its_pulleys_as_annotated() {
     // The rope keeps its length, arcs included, although its wrap on Blue and Pink changes.
     let drift = mechanism.rope_length(0, &state.y) - mechanism.rest_lengths()[0];
     assert!(drift.abs() < 1e-6, "drift {drift}");
+}
+
+#[test]
+fn a_pulled_anchor_lifts_its_load_and_turns_the_pulley() {
+    // A ceiling anchor above the pulley's left rim, the rope down past the rim (touching it on
+    // the pulley's left, a counter-clockwise turn) to a load under it; the anchor is pulled up
+    // 2 m at 1 m/s.
+    let anchor = [-R, 3.0];
+    let mechanism = Mechanism::new(Network {
+        bodies: vec![body("load", 0.2, -R, -4.0)],
+        pulleys: vec![static_pulley("P", 0.0, 0.0, 0.0)],
+        ropes: vec![rope(
+            "rope",
+            vec![Point::Fixed(anchor), Point::Pulley(0), Point::Body(0)],
+        )],
+        floor: None,
+        turns: vec![(0, 1, Turn::CounterClockwise)],
+        drives: vec![Drive {
+            point: DrivenPoint::Fixed(anchor),
+            velocity: 1.0,
+            start: 0.0,
+            distance: 2.0,
+        }],
+    })
+    .unwrap();
+    let mut state = mechanism.initial_state();
+    mechanism.run(&mut state, 3.0, 1e-3).unwrap();
+    // The load hangs from the anchor and rises by what the anchor moved.
+    assert!((state.y[0] + 2.0).abs() < 1e-2, "load at {}", state.y[0]);
+    // Rope flows backwards (towards the anchor) over a counter-clockwise turn: clockwise, by
+    // 2 m of rope.
+    assert!(
+        (state.angles[0] + 2.0 / R).abs() < 1e-2,
+        "angle {}",
+        state.angles[0]
+    );
+    assert!(
+        state.v[0].abs() < 1e-6,
+        "the load stops when the anchor does"
+    );
 }
