@@ -81,6 +81,8 @@ enum PerceptionArg {
 enum DynamicsArg {
     /// Counterfactual and factual outcomes from the annotations (the paper's offline mode).
     Annotation,
+    /// Outcomes simulated from the mechanism rebuilt from the video (rope scenes).
+    Simulate,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -422,6 +424,7 @@ impl EngineArgs {
     fn dynamics(&self) -> DynamicsBackend {
         match self.dynamics {
             DynamicsArg::Annotation => DynamicsBackend::Annotation,
+            DynamicsArg::Simulate => DynamicsBackend::Simulate,
         }
     }
 }

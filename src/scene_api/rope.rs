@@ -10,14 +10,25 @@ use std::path::Path;
 
 use indexmap::IndexMap;
 
+use std::collections::BTreeMap;
+use std::sync::{Mutex, PoisonError};
+
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::scene::{EventAction, Property, ScenarioBackend, SceneEvent, Target};
+use super::rope_sim::{RopeOutcome, simulate_rope};
+use super::scene::{DynamicsBackend, EventAction, Property, ScenarioBackend, SceneEvent, Target};
 use crate::dataset::engine::RopeScene;
-use crate::dataset::{RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name};
+use crate::dataset::{
+    FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name,
+};
 
 /// The motion and rotation results of one dynamic scene (name → −1, 0, +1).
-type Outcomes<'a> = (&'a IndexMap<String, i8>, &'a IndexMap<String, i8>);
+type Outcomes = (IndexMap<String, i8>, IndexMap<String, i8>);
+
+/// Mass change of a counterfactual run per unit of the load's multiplier, kg (FORMAT.md §2.3).
+const COUNTERFACTUAL_MASS_STEP_KG: f64 = 0.1;
+/// Mass every load is reset to before a counterfactual change, per unit of multiplier, kg.
+const COUNTERFACTUAL_BASE_MASS_KG: f64 = 0.2;
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
@@ -33,11 +44,33 @@ pub(crate) struct RopeBackend {
     /// Tension per object (ropes only), N; `None` when the rope carries no load or loads of
     /// different masses (the video cannot tell one value).
     tension_n: Vec<Option<f64>>,
+    /// Where motion and rotation answers come from.
+    dynamics: DynamicsBackend,
+    /// The tracked rope particles (for `Simulate`: which side ropes pass pulleys on).
+    four_d: Option<FourDData>,
+    /// Simulated runs so far, by (event action, object): a scene simulates only the runs its
+    /// questions ask about, once each.
+    simulated: Mutex<BTreeMap<(u8, Option<u32>), RopeOutcome>>,
 }
 
 impl RopeBackend {
-    pub(crate) fn load(path: &Path, video_id: &str) -> Result<RopeBackend, ApiError> {
-        RopeBackend::new(RopeAnnotation::load(path)?, video_id)
+    pub(crate) fn load(
+        video_dir: &Path,
+        video_id: &str,
+        dynamics: DynamicsBackend,
+    ) -> Result<RopeBackend, ApiError> {
+        let mut backend = RopeBackend::new(
+            RopeAnnotation::load(&video_dir.join("outputs.json"))?,
+            video_id,
+        )?;
+        backend.dynamics = dynamics;
+        if dynamics == DynamicsBackend::Simulate {
+            let path = video_dir.join("outputs4D.json");
+            if path.is_file() {
+                backend.four_d = Some(FourDData::load(&path)?);
+            }
+        }
+        Ok(backend)
     }
 
     pub(crate) fn new(annotation: RopeAnnotation, video_id: &str) -> Result<RopeBackend, ApiError> {
@@ -96,6 +129,9 @@ impl RopeBackend {
             objects,
             rope_group,
             tension_n,
+            dynamics: DynamicsBackend::Annotation,
+            four_d: None,
+            simulated: Mutex::new(BTreeMap::new()),
         })
     }
 
@@ -120,11 +156,14 @@ impl RopeBackend {
     }
 
     /// The results (motion, rotation) of the dynamic scene started by `event`.
-    fn results(&self, event: &SceneEvent) -> Result<Outcomes<'_>, ApiError> {
+    fn results(&self, event: &SceneEvent) -> Result<Outcomes, ApiError> {
+        if self.dynamics == DynamicsBackend::Simulate {
+            return self.simulated_results(event);
+        }
         match event.action {
             EventAction::Simulate => Ok((
-                &self.annotation.result_motion,
-                &self.annotation.result_rotation,
+                self.annotation.result_motion.clone(),
+                self.annotation.result_rotation.clone(),
             )),
             EventAction::Increase | EventAction::Decrease => {
                 let load = self.info(
@@ -145,10 +184,93 @@ impl RopeBackend {
                         if lighter { "decrease" } else { "increase" }
                     ))
                 })?;
-                Ok((&run.motion, &run.rotation))
+                Ok((run.motion.clone(), run.rotation.clone()))
             }
             EventAction::Emit | EventAction::Remove => Err(event_misuse()),
         }
+    }
+
+    /// The results of `event` by simulation: the video's masses for the factual run; for a
+    /// mass counterfactual, every load at the counterfactual baseline (0.2 kg × its multiplier)
+    /// and the target 0.1 kg × multiplier lighter or heavier (FORMAT.md §2.3).
+    fn simulated_results(&self, event: &SceneEvent) -> Result<Outcomes, ApiError> {
+        let key = (event.action as u8, event.object.map(|o| o.0));
+        if let Some(done) = self
+            .simulated
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(&key)
+        {
+            return Ok((done.motion.clone(), done.rotation.clone()));
+        }
+        let masses = match event.action {
+            EventAction::Simulate => self.annotation.output_mass_kg.clone(),
+            EventAction::Increase | EventAction::Decrease => {
+                let load = self.info(
+                    event
+                        .object
+                        .ok_or_else(|| misuse("an increase/decrease event needs an object"))?,
+                    "init_dyn_simulation",
+                )?;
+                let mut masses = self.counterfactual_baseline();
+                let base = masses.get(&load.name).copied().ok_or_else(|| {
+                    misuse(format!(
+                        "init_dyn_simulation: the {} has no mass to change",
+                        load.describe()
+                    ))
+                })?;
+                let multiplier = base / COUNTERFACTUAL_BASE_MASS_KG;
+                let step = COUNTERFACTUAL_MASS_STEP_KG * multiplier;
+                let changed = if event.action == EventAction::Decrease {
+                    base - step
+                } else {
+                    base + step
+                };
+                masses.insert(load.name.clone(), changed);
+                masses
+            }
+            EventAction::Emit | EventAction::Remove => return Err(event_misuse()),
+        };
+        let outcome = simulate_rope(&self.annotation, self.four_d.as_ref(), &masses, None)
+            .map_err(|error| {
+                ApiError::Unavailable(format!("cannot simulate this video: {error}"))
+            })?;
+        let results = (outcome.motion.clone(), outcome.rotation.clone());
+        self.simulated
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .insert(key, outcome);
+        Ok(results)
+    }
+
+    /// The masses of the counterfactual baseline: a recorded one when the video has one, else
+    /// 0.2 kg per load times its multiplier (1.975 for a load hanging from a movable pulley:
+    /// next to a `Dynamic Pulley` on its rope's path).
+    fn counterfactual_baseline(&self) -> IndexMap<String, f64> {
+        if let Some(pair) = self.annotation.counterfactuals.first() {
+            return pair.baseline_mass_kg.clone();
+        }
+        let under_movable = |load: &str| {
+            self.annotation
+                .related_groups_in_rope
+                .iter()
+                .flat_map(|group| group.iter())
+                .any(|(rope, elements)| {
+                    let path: Vec<&String> = elements.iter().filter(|e| *e != rope).collect();
+                    path.windows(2).any(|pair| {
+                        (pair[0] == load && pair[1].contains("Dynamic Pulley"))
+                            || (pair[1] == load && pair[0].contains("Dynamic Pulley"))
+                    })
+                })
+        };
+        self.annotation
+            .output_mass_kg
+            .keys()
+            .map(|name| {
+                let multiplier = if under_movable(name) { 1.975 } else { 1.0 };
+                (name.clone(), COUNTERFACTUAL_BASE_MASS_KG * multiplier)
+            })
+            .collect()
     }
 }
 

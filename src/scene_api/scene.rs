@@ -27,6 +27,9 @@ pub enum DynamicsBackend {
     /// Read from the counterfactual and factual result annotations (the paper's offline mode).
     #[default]
     Annotation,
+    /// Simulated from the mechanism rebuilt from the video (rope: `physics::rope`), as ContPRO
+    /// does.
+    Simulate,
 }
 
 /// Everything needed to open a scene; sent to sandbox workers as JSON.
@@ -391,8 +394,9 @@ impl Scene {
 fn load_backend(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     match spec.scenario {
         Scenario::Rope => Ok(Box::new(RopeBackend::load(
-            &spec.video_dir.join("outputs.json"),
+            &spec.video_dir,
             &spec.video_id,
+            spec.dynamics,
         )?)),
         other => Err(ApiError::Unavailable(format!(
             "the {other} scene API has no backend yet; only rope scenes can be answered in this version"
