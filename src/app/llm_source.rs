@@ -43,6 +43,8 @@ pub(crate) struct LlmSourceSettings {
     pub(crate) prices: Prices,
     /// No progress bar.
     pub(crate) quiet: bool,
+    /// Stop sending requests once this run's new completions cost this much, USD.
+    pub(crate) max_cost_usd: Option<f64>,
 }
 
 /// An OpenAI-compatible model as a program source.
@@ -60,6 +62,10 @@ pub(crate) struct LlmSource {
     /// Keys whose tokens are already counted in this run: units that share a completion (the
     /// same prompt on another video) count its tokens once, in a fresh run and in a replay alike.
     counted: Mutex<BTreeSet<String>>,
+    /// The spending cap, USD.
+    max_cost_usd: Option<f64>,
+    /// What this run's new completions cost so far, USD.
+    spent_usd: Arc<Mutex<f64>>,
 }
 
 /// What one model call returned.
@@ -78,6 +84,19 @@ impl LlmSource {
         settings: LlmSourceSettings,
         cache: CacheAccess,
     ) -> Result<LlmSource, AppError> {
+        if let Some(cap) = settings.max_cost_usd {
+            if !(cap.is_finite() && cap > 0.0) {
+                return Err(user_error(
+                    "--max-cost must be a positive number of US dollars",
+                ));
+            }
+            if settings.prices.price(&settings.model).is_none() {
+                return Err(user_error(format!(
+                    "--max-cost needs a price for model `{}`; add it to a price table and pass --prices FILE",
+                    settings.model
+                )));
+            }
+        }
         let endpoint_json = settings.client.manifest_json();
         let client = Client::new(settings.client).user()?;
         let prompts = PromptSet::shared().internal()?;
@@ -98,6 +117,8 @@ impl LlmSource {
             prompts,
             endpoint_json,
             counted: Mutex::new(BTreeSet::new()),
+            max_cost_usd: settings.max_cost_usd,
+            spent_usd: Arc::new(Mutex::new(0.0)),
         })
     }
 
@@ -206,6 +227,7 @@ impl LlmSource {
             return Ok(BTreeMap::new());
         }
         let progress = Progress::labelled(pending.len() as u64, "completions", self.quiet);
+        let over_budget = Arc::new(AtomicBool::new(false));
         let results = self.runtime.block_on(async {
             let semaphore = Arc::new(tokio::sync::Semaphore::new(self.jobs));
             let stop = Arc::new(AtomicBool::new(false));
@@ -216,11 +238,25 @@ impl LlmSource {
                 let cache = self.cache.clone();
                 let stop = Arc::clone(&stop);
                 let progress = progress.clone();
+                let spent = Arc::clone(&self.spent_usd);
+                let over_budget = Arc::clone(&over_budget);
+                let (cap, prices, model) =
+                    (self.max_cost_usd, self.prices.clone(), self.model.clone());
                 set.spawn(async move {
                     let Ok(_permit) = semaphore.acquire_owned().await else {
                         return (key, None);
                     };
                     if stop.load(Ordering::SeqCst) {
+                        return (key, None);
+                    }
+                    // The cap is checked before each request; requests already in flight when
+                    // it is reached still finish (and are cached), so a run overshoots by at
+                    // most `--jobs` completions.
+                    if let Some(cap) = cap
+                        && *spent.lock().unwrap_or_else(PoisonError::into_inner) >= cap
+                    {
+                        over_budget.store(true, Ordering::SeqCst);
+                        stop.store(true, Ordering::SeqCst);
                         return (key, None);
                     }
                     let observer = |notice: &crate::llm::RetryNotice<'_>| {
@@ -233,6 +269,13 @@ impl LlmSource {
                         ));
                     };
                     let result = client.complete_observed(&call.request, &observer).await;
+                    if let Ok(completion) = &result
+                        && let Some(cost) = completion
+                            .usage
+                            .and_then(|usage| prices.cost(&model, &usage))
+                    {
+                        *spent.lock().unwrap_or_else(PoisonError::into_inner) += cost;
+                    }
                     let recorded = match &result {
                         Ok(completion) => cache.record(entry_of(&key, call, completion)),
                         Err(error) => {
@@ -270,10 +313,20 @@ impl LlmSource {
                 }
             }
         }
-        match fatal {
-            Some(error) => Err(user_error(error)),
-            None => Ok(calls),
+        if let Some(error) = fatal {
+            return Err(user_error(error));
         }
+        if over_budget.load(Ordering::SeqCst) {
+            let spent = *self
+                .spent_usd
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner);
+            return Err(user_error(format!(
+                "stopped at the spending cap: this run's completions cost ${spent:.4} of --max-cost ${:.4}; every completion is cached, so raise --max-cost and pass --resume to go on",
+                self.max_cost_usd.unwrap_or_default()
+            )));
+        }
+        Ok(calls)
     }
 }
 

@@ -315,6 +315,7 @@ fn program_source(
             jobs: settings.jobs.unwrap_or(DEFAULT_LLM_JOBS),
             prices,
             quiet: settings.quiet,
+            max_cost_usd: llm.max_cost_usd,
         },
         cache,
     )?;

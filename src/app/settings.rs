@@ -132,6 +132,8 @@ pub struct LlmSettings {
     pub max_attempts: u32,
     /// A price table overriding the built-in one.
     pub prices: Option<PathBuf>,
+    /// Spending cap for this run's new completions, USD.
+    pub max_cost_usd: Option<f64>,
 }
 
 /// `render` settings.

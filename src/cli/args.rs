@@ -198,6 +198,10 @@ struct ModelArgs {
     /// A TOML price table (USD per million tokens) overriding eval/prices.toml.
     #[arg(long, value_name = "FILE", requires = "model")]
     prices: Option<PathBuf>,
+    /// Stop sending requests once this run's new completions cost this much (US dollars, from
+    /// the price table); finished work is kept, and --resume with a higher cap goes on.
+    #[arg(long, value_name = "USD", requires = "model")]
+    max_cost: Option<f64>,
 }
 
 impl ModelArgs {
@@ -216,6 +220,7 @@ impl ModelArgs {
             request_timeout_seconds: self.request_timeout,
             max_attempts: self.max_attempts,
             prices: self.prices,
+            max_cost_usd: self.max_cost,
         })
     }
 }

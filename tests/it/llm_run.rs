@@ -1088,3 +1088,86 @@ fn bench_llm_prints_json_with_the_client_and_its_peer() {
         "{peer}"
     );
 }
+
+#[test]
+fn a_spending_cap_stops_the_run_and_resume_with_a_higher_cap_buys_nothing_twice() {
+    let mock = Mock::start(MockServer::builder().responder(perfect(perfect_answers())));
+    let dir = tempfile::tempdir().unwrap();
+    let prices = dir.path().join("prices.toml");
+    fs_err::write(
+        &prices,
+        format!(
+            "snapshot = \"test\"\n\n[models.\"{MOCK_MODEL}\"]\ninput_per_million = 10.0\noutput_per_million = 10.0\n"
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("capped");
+    let capped = |cap: &str, resume: bool| {
+        let mut extra = vec![
+            "--limit",
+            "10",
+            "--jobs",
+            "1",
+            "--prices",
+            prices.to_str().unwrap(),
+            "--max-cost",
+            cap,
+        ];
+        if resume {
+            extra.push("--resume");
+        }
+        run(&run_args(&mock.url(), out.to_str().unwrap(), &extra), None)
+    };
+    let output = capped("0.05", false);
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("stopped at the spending cap"),
+        "{}",
+        stderr(&output)
+    );
+    let chat = |mock: &Mock| {
+        mock.server
+            .requests()
+            .iter()
+            .filter(|r| r.path.ends_with("/chat/completions"))
+            .count()
+    };
+    let before = chat(&mock);
+    assert!(
+        before >= 1 && before < first_units(10).len(),
+        "{before} requests"
+    );
+
+    let output = capped("100", true);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let predictions = predictions(&out);
+    assert_eq!(predictions.len(), first_units(10).len());
+    assert!(
+        predictions
+            .iter()
+            .all(|p| p["correct"].as_bool() == Some(true))
+    );
+    let distinct: BTreeSet<String> = mock
+        .server
+        .requests()
+        .iter()
+        .filter_map(first_user_text)
+        .collect();
+    assert_eq!(chat(&mock), distinct.len(), "a completion was bought twice");
+
+    // A cap without a price for the model is refused before any request.
+    let output = run(
+        &run_args(
+            &mock.url(),
+            dir.path().join("unpriced").to_str().unwrap(),
+            &["--max-cost", "1"],
+        ),
+        None,
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("--max-cost needs a price"),
+        "{}",
+        stderr(&output)
+    );
+}
