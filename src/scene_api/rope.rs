@@ -51,6 +51,8 @@ pub(crate) struct RopeBackend {
     /// Simulated runs so far, by (event action, object): a scene simulates only the runs its
     /// questions ask about, once each.
     simulated: Mutex<BTreeMap<(u8, Option<u32>), RopeOutcome>>,
+    /// Simulator runs and steps done, for the work counters.
+    simulation_work: Mutex<(u64, u64)>,
 }
 
 impl RopeBackend {
@@ -132,6 +134,7 @@ impl RopeBackend {
             dynamics: DynamicsBackend::Annotation,
             four_d: None,
             simulated: Mutex::new(BTreeMap::new()),
+            simulation_work: Mutex::new((0, 0)),
         })
     }
 
@@ -236,6 +239,14 @@ impl RopeBackend {
                 ApiError::Unavailable(format!("cannot simulate this video: {error}"))
             })?;
         let results = (outcome.motion.clone(), outcome.rotation.clone());
+        {
+            let mut work = self
+                .simulation_work
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner);
+            work.0 += 1;
+            work.1 += outcome.steps;
+        }
         self.simulated
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
@@ -282,6 +293,13 @@ fn event_misuse() -> ApiError {
 }
 
 impl ScenarioBackend for RopeBackend {
+    fn simulation_work(&self) -> (u64, u64) {
+        *self
+            .simulation_work
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+    }
+
     fn objects(&self) -> &[SceneObjectInfo] {
         &self.objects
     }

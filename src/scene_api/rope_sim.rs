@@ -76,6 +76,8 @@ pub struct RopeOutcome {
     pub motion: IndexMap<String, i8>,
     /// Pulleys → +1 clockwise as seen in the video, −1 anti-clockwise, 0.
     pub rotation: IndexMap<String, i8>,
+    /// Integration steps taken.
+    pub steps: u64,
 }
 
 /// What an element is, from its scene name.
@@ -293,6 +295,7 @@ impl RopeOutcome {
         RopeOutcome {
             motion: self.motion.iter().map(|(k, v)| (k.clone(), -v)).collect(),
             rotation: self.rotation.iter().map(|(k, v)| (k.clone(), -v)).collect(),
+            steps: self.steps,
         }
     }
 }
@@ -346,7 +349,16 @@ pub fn simulate_rope(
             0
         }
     };
-    let mut outcome = RopeOutcome::default();
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "a small positive step count"
+    )]
+    let steps = (SIMULATED_SECONDS / STEP_SECONDS).round() as u64;
+    let mut outcome = RopeOutcome {
+        steps,
+        ..RopeOutcome::default()
+    };
     for (name, &index) in &built.bodies {
         outcome.motion.insert(
             name.clone(),

@@ -221,6 +221,10 @@ pub(crate) trait ScenarioBackend: Send + Sync {
         action: &str,
         target: &Target,
     ) -> Result<bool, ApiError>;
+    /// Simulator runs and steps this backend has done (0 for oracle backends).
+    fn simulation_work(&self) -> (u64, u64) {
+        (0, 0)
+    }
 }
 
 /// One video's scene. Opening reads nothing; the first call that needs data loads it once.
@@ -256,7 +260,13 @@ impl Scene {
 
     /// The work done so far on this scene.
     pub fn work(&self) -> WorkCounters {
-        self.work.lock().map(|w| *w).unwrap_or_default()
+        let mut work = self.work.lock().map(|w| *w).unwrap_or_default();
+        if let Some(Ok(backend)) = self.backend.get() {
+            let (runs, steps) = backend.simulation_work();
+            work.sim_runs += runs;
+            work.sim_steps += steps;
+        }
+        work
     }
 
     fn count(&self, update: impl FnOnce(&mut WorkCounters)) {

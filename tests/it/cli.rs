@@ -210,6 +210,21 @@ fn dynamics_simulate_answers_every_demo_question_like_the_annotations() {
         results.push(fs_err::read(out.join("results.json")).unwrap());
     }
     assert_eq!(results[0], results[1]);
+    // Simulation runs are counted where they happen: only the runs the questions ask for (the
+    // factual run and a lighter and a heavier run per load: at most 7), once per scene.
+    let sim_runs = |run: &str| -> u64 {
+        fs_err::read_to_string(dir.path().join(run).join("predictions.jsonl"))
+            .unwrap()
+            .lines()
+            .map(|line| {
+                let prediction: serde_json::Value = serde_json::from_str(line).unwrap();
+                prediction["work"]["sim_runs"].as_u64().unwrap_or(0)
+            })
+            .sum()
+    };
+    assert_eq!(sim_runs("annotation"), 0);
+    let simulated = sim_runs("simulate");
+    assert!((1..=7).contains(&simulated), "{simulated} simulation runs");
     let scores: serde_json::Value = serde_json::from_slice(&results[1]).unwrap();
     assert_eq!(scores["scores"]["units_answered"], 384);
     assert!(scores["scores"]["failures"].as_object().unwrap().is_empty());
