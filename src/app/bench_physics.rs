@@ -49,6 +49,7 @@ fn pulley(name: &str, radius: f64, inertia: f64, mount: Mount) -> Pulley {
         name: name.to_string(),
         radius,
         inertia,
+        friction_torque: 0.0,
         mount,
     }
 }

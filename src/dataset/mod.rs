@@ -31,7 +31,7 @@ pub use question_file::{
 };
 pub use rope::{
     Camera, RopeAnnotation, RopeChange, RopeCounterfactual, RopeCounterfactualPair, RopeObjectKind,
-    RopeObjectName, parse_rope_object_name,
+    RopeObjectName, parse_rope_object_name, world as rope_world,
 };
 pub use scenario::Scenario;
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};

@@ -66,6 +66,9 @@ pub struct Pulley {
     pub radius: f64,
     /// Moment of inertia about the axle, kg·m² (0 for an ideal pulley).
     pub inertia: f64,
+    /// Coulomb friction torque of the bearing, N·m (0 for an ideal pulley): the pulley does
+    /// not turn while the rope tensions either side differ by less than `friction_torque / R`.
+    pub friction_torque: f64,
     /// Where the axle is.
     pub mount: Mount,
 }

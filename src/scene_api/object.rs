@@ -22,7 +22,7 @@ pub struct SceneObjectInfo {
     /// `static` or `dynamic`.
     pub dynamics: String,
     /// Grid id `(layer, column)` of pulleys.
-    pub grid: Option<(u32, u32)>,
+    pub grid: Option<(i32, i32)>,
 }
 
 impl SceneObjectInfo {

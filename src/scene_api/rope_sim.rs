@@ -169,6 +169,7 @@ fn build(
                                 name: name.to_string(),
                                 radius: PULLEY_RADIUS,
                                 inertia: 0.0,
+                                friction_torque: 0.0,
                                 mount,
                             });
                             built

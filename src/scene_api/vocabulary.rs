@@ -53,7 +53,7 @@ pub struct NameQuery {
     /// `static` or `dynamic`.
     pub dynamics: Option<String>,
     /// Grid id `(layer, column)`.
-    pub grid: Option<(u32, u32)>,
+    pub grid: Option<(i32, i32)>,
     /// The name asks for a kind that exists only in other scenarios: it matches nothing here.
     pub foreign_kind: bool,
 }
@@ -184,7 +184,7 @@ fn dynamics_word(word: &str) -> Option<&'static str> {
 }
 
 /// Splits a trailing grid id `(l c)` off the name.
-fn split_grid(text: &str) -> Result<(String, Option<(u32, u32)>), ApiError> {
+fn split_grid(text: &str) -> Result<(String, Option<(i32, i32)>), ApiError> {
     let Some((head, tail)) = text.split_once('(') else {
         return Ok((text.to_string(), None));
     };
@@ -194,7 +194,7 @@ fn split_grid(text: &str) -> Result<(String, Option<(u32, u32)>), ApiError> {
         ))
     };
     let inner = tail.trim_end().strip_suffix(')').ok_or_else(bad)?;
-    let numbers: Vec<u32> = inner
+    let numbers: Vec<i32> = inner
         .split_whitespace()
         .map(str::parse)
         .collect::<Result<_, _>>()

@@ -9,6 +9,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("dataset", 1),
     ("physics", 1),
     ("perception", 1),
+    ("synth", 2),
     ("prompt", 2),
     ("llm", 3),
     ("program", 4),

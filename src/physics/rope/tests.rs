@@ -19,6 +19,7 @@ fn static_pulley(name: &str, x: f64, y: f64, inertia: f64) -> Pulley {
         name: name.to_string(),
         radius: R,
         inertia,
+        friction_torque: 0.0,
         mount: Mount::Fixed([x, y]),
     }
 }
@@ -126,6 +127,7 @@ fn movable_pulley_compound_system() {
                     name: "movable".into(),
                     radius: R,
                     inertia: 0.0,
+                    friction_torque: 0.0,
                     mount: Mount::Body(0),
                 },
                 static_pulley("static", R, 2.0, 0.0),
@@ -173,6 +175,7 @@ fn two_rope_network_matches_the_reduced_coordinate_closed_form() {
                     name: "P pulley".into(),
                     radius: R,
                     inertia: 0.0,
+                    friction_torque: 0.0,
                     mount: Mount::Body(1),
                 },
                 static_pulley("S2", x + 3.0 * R, 1.0, 0.0),
@@ -424,6 +427,7 @@ fn the_real_videos_purple_rope_turns_its_pulleys_as_annotated() {
         name: name.into(),
         radius,
         inertia: 0.0,
+        friction_torque: 0.0,
         mount: Mount::Fixed([x, y]),
     };
     let network = Network {

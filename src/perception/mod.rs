@@ -1,0 +1,11 @@
+//! Perception: what the pixels of a video say, independent of questions, Python or LLMs.
+//!
+//! Input: video files (mp4 through `ffmpeg`, or PNG folders) and camera records. Output: frames
+//! as RGB pixel buffers, and the geometry that ties world points to pixels. Layer 1 (DESIGN.md
+//! §9): uses only `util`.
+//!
+//! * [`camera`]: the release's Unity camera (projection, capture records).
+//! * [`frames`]: decoding only the frames asked for, from an mp4 or a PNG folder.
+
+pub mod camera;
+pub mod frames;

@@ -1,0 +1,378 @@
+//! Triangle meshes of the scene primitives (boxes, spheres, cylinders, rings, tubes along a
+//! path), in object space with unit normals per vertex, and the rigid transforms that place them.
+//!
+//! Units are world units (nominally metres); cylinders and rings have their axis along `z`,
+//! which is the axis rope pulleys turn about.
+
+use std::f64::consts::TAU;
+
+use crate::perception::camera::{Rotation, rotate};
+
+/// A triangle mesh. Winding is not relied on (the rasterizer draws both faces).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions, object space.
+    pub positions: Vec<[f64; 3]>,
+    /// Unit normals, one per vertex.
+    pub normals: Vec<[f64; 3]>,
+    /// Brightness factor per vertex (1 plain; below 1 for painted marks such as rope stripes).
+    pub tints: Vec<f64>,
+    /// Triangles as vertex indices.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A rigid placement: `world = rotation · (scale ∘ p) + translation`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Rotation, row-major.
+    pub rotation: Rotation,
+    /// Translation, units.
+    pub translation: [f64; 3],
+}
+
+impl Pose {
+    /// The identity placement at `translation`.
+    pub fn at(translation: [f64; 3]) -> Pose {
+        Pose {
+            rotation: IDENTITY,
+            translation,
+        }
+    }
+
+    /// A placement turned by `angle` radians about `z` (counter-clockwise seen from −z).
+    pub fn turned_about_z(translation: [f64; 3], angle: f64) -> Pose {
+        let (s, c) = angle.sin_cos();
+        Pose {
+            rotation: [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+            translation,
+        }
+    }
+
+    /// Places an object-space point.
+    pub fn apply(&self, point: [f64; 3]) -> [f64; 3] {
+        let r = rotate(&self.rotation, point);
+        [
+            r[0] + self.translation[0],
+            r[1] + self.translation[1],
+            r[2] + self.translation[2],
+        ]
+    }
+
+    /// Turns an object-space direction.
+    pub fn apply_direction(&self, direction: [f64; 3]) -> [f64; 3] {
+        rotate(&self.rotation, direction)
+    }
+}
+
+/// The identity rotation.
+pub const IDENTITY: Rotation = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+impl Mesh {
+    fn push(&mut self, position: [f64; 3], normal: [f64; 3]) -> u32 {
+        self.positions.push(position);
+        self.normals.push(normal);
+        self.tints.push(1.0);
+        u32::try_from(self.positions.len() - 1).unwrap_or(u32::MAX)
+    }
+
+    /// Appends `other` (its indices shifted).
+    pub fn merge(&mut self, other: &Mesh) {
+        let offset = u32::try_from(self.positions.len()).unwrap_or(u32::MAX);
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.tints.extend_from_slice(&other.tints);
+        self.triangles.extend(
+            other
+                .triangles
+                .iter()
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
+    }
+
+    /// A copy with every vertex moved by `pose` (normals turned).
+    pub fn transformed(&self, pose: &Pose) -> Mesh {
+        Mesh {
+            positions: self.positions.iter().map(|p| pose.apply(*p)).collect(),
+            normals: self
+                .normals
+                .iter()
+                .map(|n| pose.apply_direction(*n))
+                .collect(),
+            tints: self.tints.clone(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    /// An axis-aligned box centred at the origin with the given full sizes.
+    pub fn cuboid(size: [f64; 3]) -> Mesh {
+        let half = size.map(|s| s / 2.0);
+        let mut mesh = Mesh::default();
+        // Six faces, each with its own four vertices so normals stay flat.
+        for axis in 0..3 {
+            for sign in [-1.0, 1.0] {
+                let mut normal = [0.0; 3];
+                normal[axis] = sign;
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let corners: Vec<u32> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                    .iter()
+                    .map(|(a, b)| {
+                        let mut p = [0.0; 3];
+                        p[axis] = sign * half[axis];
+                        p[u] = a * half[u];
+                        p[v] = b * half[v];
+                        mesh.push(p, normal)
+                    })
+                    .collect();
+                mesh.triangles.push([corners[0], corners[1], corners[2]]);
+                mesh.triangles.push([corners[0], corners[2], corners[3]]);
+            }
+        }
+        mesh
+    }
+
+    /// A UV sphere of `radius` centred at the origin.
+    pub fn sphere(radius: f64, segments: u32, rings: u32) -> Mesh {
+        let mut mesh = Mesh::default();
+        for ring in 0..=rings {
+            let polar = std::f64::consts::PI * f64::from(ring) / f64::from(rings);
+            for segment in 0..=segments {
+                let azimuth = TAU * f64::from(segment) / f64::from(segments);
+                let normal = [
+                    polar.sin() * azimuth.cos(),
+                    polar.cos(),
+                    polar.sin() * azimuth.sin(),
+                ];
+                mesh.push(normal.map(|c| c * radius), normal);
+            }
+        }
+        let row = segments + 1;
+        for ring in 0..rings {
+            for segment in 0..segments {
+                let a = ring * row + segment;
+                let b = a + row;
+                mesh.triangles.push([a, b, a + 1]);
+                mesh.triangles.push([a + 1, b, b + 1]);
+            }
+        }
+        mesh
+    }
+
+    /// A closed cylinder (a disc with thickness) of `radius` about the `z` axis, from
+    /// `z = -half_length` to `z = half_length`.
+    pub fn cylinder(radius: f64, half_length: f64, segments: u32) -> Mesh {
+        Mesh::ring(0.0, radius, half_length, segments)
+    }
+
+    /// An annulus with thickness about the `z` axis: inner and outer radius, faces at
+    /// `z = ±half_length`. An inner radius of 0 makes a solid cylinder.
+    pub fn ring(inner: f64, outer: f64, half_length: f64, segments: u32) -> Mesh {
+        let mut mesh = Mesh::default();
+        let point = |r: f64, angle: f64, z: f64| [r * angle.cos(), r * angle.sin(), z];
+        for index in 0..segments {
+            let a0 = TAU * f64::from(index) / f64::from(segments);
+            let a1 = TAU * f64::from(index + 1) / f64::from(segments);
+            // Outer wall.
+            let n0 = [a0.cos(), a0.sin(), 0.0];
+            let n1 = [a1.cos(), a1.sin(), 0.0];
+            let v = [
+                mesh.push(point(outer, a0, -half_length), n0),
+                mesh.push(point(outer, a1, -half_length), n1),
+                mesh.push(point(outer, a1, half_length), n1),
+                mesh.push(point(outer, a0, half_length), n0),
+            ];
+            mesh.triangles.push([v[0], v[1], v[2]]);
+            mesh.triangles.push([v[0], v[2], v[3]]);
+            if inner > 0.0 {
+                let m0 = n0.map(|c| -c);
+                let m1 = n1.map(|c| -c);
+                let w = [
+                    mesh.push(point(inner, a0, -half_length), m0),
+                    mesh.push(point(inner, a1, -half_length), m1),
+                    mesh.push(point(inner, a1, half_length), m1),
+                    mesh.push(point(inner, a0, half_length), m0),
+                ];
+                mesh.triangles.push([w[0], w[2], w[1]]);
+                mesh.triangles.push([w[0], w[3], w[2]]);
+            }
+            // Both faces.
+            for (z, normal) in [
+                (half_length, [0.0, 0.0, 1.0]),
+                (-half_length, [0.0, 0.0, -1.0]),
+            ] {
+                let outer0 = mesh.push(point(outer, a0, z), normal);
+                let outer1 = mesh.push(point(outer, a1, z), normal);
+                let inner0 = mesh.push(point(inner, a0, z), normal);
+                let inner1 = mesh.push(point(inner, a1, z), normal);
+                mesh.triangles.push([inner0, outer0, outer1]);
+                if inner > 0.0 {
+                    mesh.triangles.push([inner0, outer1, inner1]);
+                }
+            }
+        }
+        mesh
+    }
+
+    /// A tube of `radius` along a polyline (at least two points), with `sides` facets. Every
+    /// `stripe` units of length along the path the tint alternates, as the release's ropes are
+    /// striped; `None` keeps one tint.
+    pub fn tube(path: &[[f64; 3]], radius: f64, sides: u32, stripe: Option<f64>) -> Mesh {
+        let mut mesh = Mesh::default();
+        if path.len() < 2 {
+            return mesh;
+        }
+        let mut length = 0.0;
+        let mut rings: Vec<u32> = Vec::with_capacity(path.len());
+        for (index, point) in path.iter().enumerate() {
+            if index > 0 {
+                length += distance(path[index - 1], *point);
+            }
+            let before = path[index.saturating_sub(1)];
+            let after = path[(index + 1).min(path.len() - 1)];
+            let tangent = normalized(sub(after, before));
+            // A frame perpendicular to the tangent; ropes lie in planes of constant z, so z
+            // (or x for a tangent along z) is never parallel to it.
+            let helper = if tangent[2].abs() < 0.9 {
+                [0.0, 0.0, 1.0]
+            } else {
+                [1.0, 0.0, 0.0]
+            };
+            let side = normalized(cross(tangent, helper));
+            let up = cross(side, tangent);
+            let tint = match stripe {
+                Some(width) if width > 0.0 => {
+                    #[expect(
+                        clippy::cast_possible_truncation,
+                        reason = "a stripe counter along a rope of tens of units"
+                    )]
+                    let band = (length / width).floor() as i64;
+                    if band % 2 == 0 { 1.0 } else { 0.55 }
+                }
+                _ => 1.0,
+            };
+            let first = u32::try_from(mesh.positions.len()).unwrap_or(u32::MAX);
+            for facet in 0..sides {
+                let angle = TAU * f64::from(facet) / f64::from(sides);
+                let normal = [
+                    side[0] * angle.cos() + up[0] * angle.sin(),
+                    side[1] * angle.cos() + up[1] * angle.sin(),
+                    side[2] * angle.cos() + up[2] * angle.sin(),
+                ];
+                let position = [
+                    point[0] + radius * normal[0],
+                    point[1] + radius * normal[1],
+                    point[2] + radius * normal[2],
+                ];
+                let vertex = mesh.push(position, normal);
+                mesh.tints[vertex as usize] = tint;
+            }
+            rings.push(first);
+        }
+        for pair in rings.windows(2) {
+            for facet in 0..sides {
+                let next = (facet + 1) % sides;
+                let (a, b) = (pair[0] + facet, pair[0] + next);
+                let (c, d) = (pair[1] + facet, pair[1] + next);
+                mesh.triangles.push([a, c, b]);
+                mesh.triangles.push([b, c, d]);
+            }
+        }
+        mesh
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the vertices; `None` for an empty mesh.
+    pub fn bounds(&self) -> Option<([f64; 3], [f64; 3])> {
+        let first = *self.positions.first()?;
+        let mut low = first;
+        let mut high = first;
+        for p in &self.positions {
+            for axis in 0..3 {
+                low[axis] = low[axis].min(p[axis]);
+                high[axis] = high[axis].max(p[axis]);
+            }
+        }
+        Some((low, high))
+    }
+}
+
+/// `a − b`.
+pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `a × b`.
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `|a − b|`.
+pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = sub(a, b);
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
+/// `v / |v|` (the `z` axis for a zero vector).
+pub fn normalized(v: [f64; 3]) -> [f64; 3] {
+    let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if length > 0.0 {
+        v.map(|c| c / length)
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primitives_have_the_asked_extents_and_unit_normals() {
+        let cases = [
+            (Mesh::cuboid([2.24, 2.24, 2.0]), [1.12, 1.12, 1.0]),
+            (Mesh::sphere(1.0, 24, 12), [1.0, 1.0, 1.0]),
+            (Mesh::cylinder(1.74, 0.29, 48), [1.74, 1.74, 0.29]),
+            (Mesh::ring(1.0, 1.61, 0.17, 48), [1.61, 1.61, 0.17]),
+        ];
+        for (mesh, half) in cases {
+            let (low, high) = mesh.bounds().unwrap();
+            for axis in 0..3 {
+                assert!(
+                    (high[axis] - half[axis]).abs() < 1e-9,
+                    "{high:?} vs {half:?}"
+                );
+                assert!((low[axis] + half[axis]).abs() < 1e-9, "{low:?} vs {half:?}");
+            }
+            assert_eq!(mesh.normals.len(), mesh.positions.len());
+            for n in &mesh.normals {
+                assert!(((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-12);
+            }
+            let count = u32::try_from(mesh.positions.len()).unwrap();
+            assert!(mesh.triangles.iter().flatten().all(|&i| i < count));
+        }
+    }
+
+    #[test]
+    fn a_tube_follows_its_path_at_its_radius() {
+        let path = [[0.0, 0.0, 0.0], [0.0, 5.0, 0.0], [3.0, 5.0, 0.0]];
+        let tube = Mesh::tube(&path, 0.2, 8, Some(1.0));
+        assert_eq!(tube.positions.len(), 24);
+        assert_eq!(tube.triangles.len(), 2 * 2 * 8);
+        for (index, p) in tube.positions.iter().enumerate() {
+            let centre = path[index / 8];
+            let d = distance(*p, centre);
+            // Corners are mitred by the averaged tangent, so the ring there is the same circle.
+            assert!((d - 0.2).abs() < 1e-12, "vertex {index} at {d}");
+        }
+        assert!(tube.tints.contains(&0.55), "stripes alternate the tint");
+    }
+
+    #[test]
+    fn poses_turn_counter_clockwise_about_z() {
+        let pose = Pose::turned_about_z([1.0, 2.0, 0.0], std::f64::consts::FRAC_PI_2);
+        let p = pose.apply([1.0, 0.0, 0.0]);
+        assert!((p[0] - 1.0).abs() < 1e-12 && (p[1] - 3.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,372 @@
+//! Synthetic ContPhy videos in the release format: `contphy-eval generate`.
+//!
+//! The framework is shared by the scenarios: a [`ScenarioSynth`] samples a random scene with the
+//! release's randomisation and simulates it (returning the annotations, the 4-D data and what
+//! each frame shows); [`write_video`] renders every frame with the software rasterizer
+//! ([`raster`]) under the release camera, derives the per-frame boxes and instance masks from the
+//! rendered id image ([`annotate`]), and writes the folder atomically (`outputs.json`,
+//! `outputs4D.json`, frames as PNG folders and/or mp4 through ffmpeg, [`video`]); [`generate`]
+//! runs many videos on `jobs` threads, each from its own seed, so the output does not depend on
+//! scheduling. Questions are then made by the question engine from the written folders, through
+//! the same loader as the real data (in `app`).
+//!
+//! Input: a [`GenerateOptions`]. Output: `OUT/<scenario folder>/<index>/` folders and a
+//! [`GenerateReport`]. Layer 2 (DESIGN.md §9): uses `util`, `dataset`, `physics`, `perception`.
+//!
+//! * [`rope`]: rope–pulley scenes (FORMAT.md §2).
+
+pub mod annotate;
+pub mod background;
+mod error;
+pub mod mesh;
+pub mod palette;
+pub mod raster;
+pub mod rope;
+pub mod video;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
+use std::time::Instant;
+
+use serde_json::{Map, Value};
+
+pub use error::SynthError;
+
+use self::annotate::{LabelledObject, capture_record, segmentation_rgb};
+use self::background::{Wall, render_wall};
+use self::mesh::{Mesh, Pose};
+use self::raster::{Drawable, Light, render};
+use self::video::{FrameOutput, FrameSink};
+use crate::dataset::Scenario;
+use crate::perception::camera::CameraModel;
+use crate::util::{derive_seed, write_atomic};
+
+/// One thing a frame shows.
+#[derive(Debug, Clone)]
+pub struct Item {
+    /// Its mesh (shared between frames).
+    pub mesh: Arc<Mesh>,
+    /// Where it is in this frame.
+    pub pose: Pose,
+    /// Colour, sRGB in `[0, 1]`.
+    pub color: [f64; 3],
+    /// Instance id (0: drawn, not labelled).
+    pub instance: u32,
+}
+
+/// A generated video before rendering: everything the folder holds but the pixels and the
+/// per-frame annotations derived from them.
+#[derive(Debug, Clone)]
+pub struct SynthesizedVideo {
+    /// `outputs.json` keys before `imgAnnotationDescriptions`, in the release's order.
+    pub annotations: Map<String, Value>,
+    /// `outputs.json` keys after it (`CounterFactualAnnotations`).
+    pub trailing: Map<String, Value>,
+    /// `outputs4D.json`.
+    pub four_d: Value,
+    /// The camera.
+    pub camera: CameraModel,
+    /// The light.
+    pub light: Light,
+    /// The background wall.
+    pub wall: Wall,
+    /// Labelled objects (instance ids, names, labels).
+    pub labels: Vec<LabelledObject>,
+    /// `Id2ObjectNameDict`: every labelled name, including objects never drawn (`Solver`).
+    pub id_to_name: Vec<(u32, String)>,
+    /// Solo step number of frame 0 (`perFrameAnnotations` keys start here).
+    pub first_step: usize,
+    /// What each frame shows.
+    pub frames: Vec<Vec<Item>>,
+    /// Simulated trials rejected before this one was kept (the release's validity checks).
+    pub rejected_trials: u32,
+    /// Simulator steps taken, all runs included.
+    pub simulation_steps: u64,
+}
+
+/// A scenario's scene sampler and simulator.
+pub trait ScenarioSynth: Sync {
+    /// The scenario.
+    fn scenario(&self) -> Scenario;
+    /// Samples, simulates and describes one video from `seed` (deterministic), at the given
+    /// image size.
+    fn synthesize(
+        &self,
+        seed: u64,
+        width: u32,
+        height: u32,
+    ) -> Result<SynthesizedVideo, SynthError>;
+}
+
+/// What to generate.
+#[derive(Debug, Clone)]
+pub struct GenerateOptions {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Number of videos.
+    pub videos: usize,
+    /// Base seed; video `i` uses `derive_seed(seed, "synth/<scenario>/<i>")`.
+    pub seed: u64,
+    /// Data root to write into (`OUT/<scenario folder>/<i>/`).
+    pub out: PathBuf,
+    /// Worker threads.
+    pub jobs: usize,
+    /// Frame files to write.
+    pub frames: FrameOutput,
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+}
+
+/// What one video cost.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct VideoReport {
+    /// Folder name.
+    pub id: String,
+    /// `true` when the folder existed already and was kept (a resumed generation).
+    pub reused: bool,
+    /// Rejected trials before the kept one.
+    pub rejected_trials: u32,
+    /// Simulator steps.
+    pub simulation_steps: u64,
+    /// Time to sample and simulate, ms.
+    pub simulate_ms: u64,
+    /// Time to render, annotate and write, ms.
+    pub write_ms: u64,
+    /// Bytes on disk.
+    pub bytes: u64,
+}
+
+/// The outcome of [`generate`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct GenerateReport {
+    /// Per video, in index order.
+    pub videos: Vec<VideoReport>,
+    /// Wall time, ms.
+    pub wall_ms: u64,
+}
+
+/// The seed of video `index`.
+pub fn video_seed(seed: u64, scenario: Scenario, index: usize) -> u64 {
+    derive_seed(seed, &format!("synth/{}/{index}", scenario.name()))
+}
+
+/// Generates `options.videos` videos with `synth` on `options.jobs` threads; `on_video` is
+/// called as each finishes (for progress). Videos whose folder already holds an
+/// `outputs.json` are kept as they are, so an interrupted generation resumes where it stopped.
+pub fn generate(
+    synth: &dyn ScenarioSynth,
+    options: &GenerateOptions,
+    on_video: &(dyn Fn(&VideoReport) + Sync),
+) -> Result<GenerateReport, SynthError> {
+    let started = Instant::now();
+    let scenario_dir = options.out.join(options.scenario.folder_name());
+    fs_err::create_dir_all(&scenario_dir).map_err(|source| SynthError::Io {
+        path: scenario_dir.clone(),
+        source,
+    })?;
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<VideoReport>>> = Mutex::new(vec![None; options.videos]);
+    let failure: Mutex<Option<SynthError>> = Mutex::new(None);
+    let worker = || {
+        loop {
+            if failure
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .is_some()
+            {
+                return;
+            }
+            let index = next.fetch_add(1, Ordering::Relaxed);
+            if index >= options.videos {
+                return;
+            }
+            match generate_one(synth, options, &scenario_dir, index) {
+                Ok(report) => {
+                    on_video(&report);
+                    results.lock().unwrap_or_else(PoisonError::into_inner)[index] = Some(report);
+                }
+                Err(error) => {
+                    failure
+                        .lock()
+                        .unwrap_or_else(PoisonError::into_inner)
+                        .get_or_insert(error);
+                    return;
+                }
+            }
+        }
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..options.jobs.max(1) {
+            scope.spawn(worker);
+        }
+    });
+    if let Some(error) = failure.into_inner().unwrap_or_else(PoisonError::into_inner) {
+        return Err(error);
+    }
+    let videos = results
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner)
+        .into_iter()
+        .flatten()
+        .collect();
+    Ok(GenerateReport {
+        videos,
+        wall_ms: millis(started),
+    })
+}
+
+fn millis(since: Instant) -> u64 {
+    u64::try_from(since.elapsed().as_millis()).unwrap_or(u64::MAX)
+}
+
+fn generate_one(
+    synth: &dyn ScenarioSynth,
+    options: &GenerateOptions,
+    scenario_dir: &Path,
+    index: usize,
+) -> Result<VideoReport, SynthError> {
+    let id = index.to_string();
+    let dir = scenario_dir.join(&id);
+    if dir.join("outputs.json").is_file() {
+        return Ok(VideoReport {
+            id,
+            reused: true,
+            rejected_trials: 0,
+            simulation_steps: 0,
+            simulate_ms: 0,
+            write_ms: 0,
+            bytes: folder_bytes(&dir),
+        });
+    }
+    let started = Instant::now();
+    let video = synth.synthesize(
+        video_seed(options.seed, options.scenario, index),
+        options.width,
+        options.height,
+    )?;
+    let simulate_ms = millis(started);
+    let started = Instant::now();
+    write_video(&dir, &video, options.frames)?;
+    Ok(VideoReport {
+        id,
+        reused: false,
+        rejected_trials: video.rejected_trials,
+        simulation_steps: video.simulation_steps,
+        simulate_ms,
+        write_ms: millis(started),
+        bytes: folder_bytes(&dir),
+    })
+}
+
+fn folder_bytes(dir: &Path) -> u64 {
+    let mut total = 0;
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(current) = pending.pop() {
+        let Ok(entries) = fs_err::read_dir(&current) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                pending.push(path);
+            } else if let Ok(meta) = entry.metadata() {
+                total += meta.len();
+            }
+        }
+    }
+    total
+}
+
+/// Renders and writes one video folder at `dir`. The folder is assembled under a temporary
+/// name beside it and renamed at the end, so a crash never leaves half a video.
+pub fn write_video(
+    dir: &Path,
+    video: &SynthesizedVideo,
+    output: FrameOutput,
+) -> Result<(), SynthError> {
+    let parent = dir.parent().unwrap_or(Path::new("."));
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let partial = parent.join(format!(".partial-{name}"));
+    if partial.exists() {
+        fs_err::remove_dir_all(&partial).map_err(|source| SynthError::Io {
+            path: partial.clone(),
+            source,
+        })?;
+    }
+    fs_err::create_dir_all(&partial).map_err(|source| SynthError::Io {
+        path: partial.clone(),
+        source,
+    })?;
+    let camera = &video.camera;
+    let background = render_wall(camera, &video.wall, &video.light);
+    let mut sink = FrameSink::open(&partial, output, camera.width, camera.height)?;
+    let max_instance = video.labels.iter().map(|l| l.instance).max().unwrap_or(0);
+    let mut labelled = vec![false; max_instance as usize + 1];
+    for label in &video.labels {
+        labelled[label.instance as usize] = true;
+    }
+    let mut per_frame = Map::new();
+    for (index, items) in video.frames.iter().enumerate() {
+        let drawables: Vec<Drawable<'_>> = items
+            .iter()
+            .map(|item| Drawable {
+                mesh: &item.mesh,
+                pose: item.pose,
+                color: item.color,
+                instance: item.instance,
+            })
+            .collect();
+        let frame = render(camera, &background, &video.light, &drawables);
+        let step = video.first_step + index;
+        per_frame.insert(
+            step.to_string(),
+            capture_record(step, camera, &frame, &video.labels, index % 2 == 1),
+        );
+        let segmentation = segmentation_rgb(&frame, &labelled);
+        sink.push(index, &frame.rgb, &segmentation)?;
+    }
+    sink.finish()?;
+    let mut outputs = video.annotations.clone();
+    let id_to_name: Map<String, Value> = video
+        .id_to_name
+        .iter()
+        .map(|(id, name)| (id.to_string(), Value::String(name.clone())))
+        .collect();
+    outputs.insert(
+        "imgAnnotationDescriptions".into(),
+        serde_json::json!({
+            "perFrameAnnotations": per_frame,
+            "Id2ObjectNameDict": id_to_name,
+        }),
+    );
+    for (key, value) in &video.trailing {
+        outputs.insert(key.clone(), value.clone());
+    }
+    let write_json = |file: &str, value: &Value| -> Result<(), SynthError> {
+        let path = partial.join(file);
+        let bytes = serde_json::to_vec(value).map_err(|error| SynthError::Encode {
+            path: path.clone(),
+            detail: error.to_string(),
+        })?;
+        write_atomic(&path, &bytes).map_err(SynthError::from)
+    };
+    write_json("outputs4D.json", &video.four_d)?;
+    write_json("outputs.json", &Value::Object(outputs))?;
+    if dir.exists() {
+        fs_err::remove_dir_all(dir).map_err(|source| SynthError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    fs_err::rename(&partial, dir).map_err(|source| SynthError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
