@@ -10,6 +10,7 @@ mod bench_physics;
 mod error;
 mod evaluate;
 mod exec;
+mod generate;
 mod llm_source;
 mod pipeline;
 mod progress;
@@ -24,8 +25,9 @@ mod source;
 pub use error::{AppError, ErrorClass};
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
-    CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, LlmSettings,
-    QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, FramesSelection,
+    GenerateSettings, LlmSettings, QuestionsSettings, RenderSettings, Request, RunSettings,
+    ScoreSettings, SplitSelection,
 };
 
 use std::io::Write as _;
@@ -51,6 +53,7 @@ pub fn execute(request: Request) -> ExitCode {
             bench_physics::bench_physics(&settings.scenario, &steps, settings.svg.as_deref())
         }
         Request::Render(settings) => render::render(&settings),
+        Request::Generate(settings) => generate::generate(&settings),
     };
     match result {
         Ok(code) => code,

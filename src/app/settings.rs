@@ -32,6 +32,8 @@ pub enum Request {
     BenchPhysics(BenchPhysicsSettings),
     /// `render`.
     Render(RenderSettings),
+    /// `generate`.
+    Generate(GenerateSettings),
 }
 
 /// Which sampled split(s) a run evaluates.
@@ -151,6 +153,36 @@ pub struct RenderSettings {
     pub per_question: bool,
     /// Print the request as JSON (messages and key material) instead of text.
     pub json: bool,
+}
+
+/// Which frame files `generate` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FramesSelection {
+    /// mp4 when ffmpeg is installed, PNG folders otherwise.
+    Auto,
+    /// Exactly this.
+    Exactly(crate::synth::video::FrameOutput),
+}
+
+/// `generate` settings.
+#[derive(Debug, Clone)]
+pub struct GenerateSettings {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Number of videos.
+    pub videos: usize,
+    /// Base seed (videos, and the question engine and sampler).
+    pub seed: u64,
+    /// The data root to write.
+    pub out: PathBuf,
+    /// Worker threads (`None`: the number of cores).
+    pub jobs: Option<usize>,
+    /// Frame files.
+    pub frames: FramesSelection,
+    /// Image width and height, pixels.
+    pub resolution: (u32, u32),
+    /// No progress bar.
+    pub quiet: bool,
 }
 
 /// `bench physics` settings.

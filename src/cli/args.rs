@@ -6,11 +6,13 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
-    CacheImportSettings, CacheSettings, ExecSettings, LlmSettings, QuestionsSettings,
-    RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    CacheImportSettings, CacheSettings, ExecSettings, FramesSelection, GenerateSettings,
+    LlmSettings, QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings,
+    SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+use crate::synth::video::FrameOutput;
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
 /// runs in a sandbox against the scene API, and answers are scored per option and per question.
@@ -41,6 +43,9 @@ pub enum Command {
     Render(RenderArgs),
     /// Generate questions from rope annotations (the public engine, re-implemented).
     Questions(QuestionsArgs),
+    /// Generate synthetic videos in the release format (annotations, 4-D data, frames), then
+    /// their questions.
+    Generate(GenerateArgs),
     /// Re-score saved runs and print one leaderboard table.
     Score(ScoreArgs),
     /// Inspect the program cache.
@@ -318,6 +323,57 @@ pub struct QuestionsArgs {
     dynamics_per_video: usize,
 }
 
+/// `generate` arguments.
+#[derive(Debug, Args)]
+pub struct GenerateArgs {
+    /// The scenario to generate.
+    #[arg(long, value_name = "SCENARIO", default_value = "rope")]
+    scenario: Scenario,
+    /// Number of videos (folders 0 … N−1).
+    #[arg(long, value_name = "N")]
+    videos: usize,
+    /// Base seed: video i depends only on (seed, i); also seeds the question engine.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Data root to write (`OUT/pulley_group/<i>/`, questions beside it). Existing video
+    /// folders are kept, so an interrupted generation resumes.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Videos generated at once (default: the number of cores).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    jobs: Option<u16>,
+    /// Frame files: mp4 (needs ffmpeg), png folders, both, or none (annotations only).
+    #[arg(long, value_enum, default_value_t = FramesArg::Auto)]
+    frames: FramesArg,
+    /// Image size, WIDTHxHEIGHT (the release's is 1920x1080).
+    #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_resolution)]
+    resolution: (u32, u32),
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum FramesArg {
+    /// mp4 when ffmpeg is installed, PNG folders otherwise.
+    Auto,
+    /// `output_Full.mp4` and `output_Full_seg.mp4`.
+    Mp4,
+    /// `frames/output_Full_ori/` and `frames/output_Full_seg/` PNG folders.
+    Png,
+    /// Both.
+    Both,
+    /// No frame files.
+    None,
+}
+
+fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
+    let parsed = text
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
+    parsed.ok_or_else(|| format!("`{text}` is not WIDTHxHEIGHT, e.g. 1920x1080"))
+}
+
 /// `score` arguments.
 #[derive(Debug, Args)]
 pub struct ScoreArgs {
@@ -488,6 +544,22 @@ impl Cli {
                 seed: args.seed,
                 fact_per_video: args.fact_per_video,
                 dynamics_per_video: args.dynamics_per_video,
+            }),
+            Some(Command::Generate(args)) => Request::Generate(GenerateSettings {
+                scenario: args.scenario,
+                videos: args.videos,
+                seed: args.seed,
+                out: args.out,
+                jobs: args.jobs.map(usize::from),
+                frames: match args.frames {
+                    FramesArg::Auto => FramesSelection::Auto,
+                    FramesArg::Mp4 => FramesSelection::Exactly(FrameOutput::Mp4),
+                    FramesArg::Png => FramesSelection::Exactly(FrameOutput::Png),
+                    FramesArg::Both => FramesSelection::Exactly(FrameOutput::Both),
+                    FramesArg::None => FramesSelection::Exactly(FrameOutput::None),
+                },
+                resolution: args.resolution,
+                quiet: args.quiet,
             }),
             Some(Command::Score(args)) => Request::Score(ScoreSettings {
                 runs: args.runs,

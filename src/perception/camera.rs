@@ -100,7 +100,8 @@ impl CameraModel {
     /// A camera-space point on the image; `None` behind the near plane.
     pub fn project_camera(&self, camera_point: [f64; 3]) -> Option<Projected> {
         let [x, y, z] = camera_point;
-        if !(z > NEAR_CLIP) {
+        // Written so that a NaN depth is rejected too.
+        if z.is_nan() || z <= NEAR_CLIP {
             return None;
         }
         let f = self.focal();
@@ -217,6 +218,10 @@ pub fn rotate(r: &Rotation, v: [f64; 3]) -> [f64; 3] {
     ]
 }
 
+#[expect(
+    clippy::many_single_char_names,
+    reason = "the quaternion's components and the matrix keep their textbook names"
+)]
 fn rotation_to_quaternion(r: &Rotation) -> [f64; 4] {
     // Shepperd's method: branch on the largest of w², x², y², z² for accuracy.
     let trace = r[0][0] + r[1][1] + r[2][2];
@@ -268,6 +273,10 @@ fn normalize(v: [f64; 3]) -> [f64; 3] {
 }
 
 #[cfg(test)]
+#[expect(
+    clippy::unreadable_literal,
+    reason = "values copied digit for digit from the release's files"
+)]
 mod tests {
     use super::*;
 

@@ -389,6 +389,60 @@ impl Mechanism {
         }
     }
 
+    /// Where a path point is in `state` (m): a pulley's axle, a body's centre, a fixed point
+    /// (moved by its drive, if any).
+    pub fn position_of(&self, point: Point, state: &State) -> [f64; 2] {
+        self.now.set(state.time);
+        self.point_position(point, &state.y)
+    }
+
+    /// The rope's centre line in `state` as a polyline (m), from its first end to its last: the
+    /// straight segments between rim tangent points and the arcs round the pulleys, sampled so
+    /// that no arc step is longer than `arc_step` metres. Ends are the path's end points.
+    pub fn rope_polyline(&self, rope: usize, state: &State, arc_step: f64) -> Vec<[f64; 2]> {
+        self.now.set(state.time);
+        let Some(path) = self.network.ropes.get(rope).map(|r| &r.path) else {
+            return Vec::new();
+        };
+        let contacts = self.contacts(rope, &state.y);
+        let mut points = Vec::new();
+        for (segment, (from, to)) in contacts.iter().enumerate() {
+            if segment == 0 {
+                points.push(*from);
+            } else {
+                // The arc round the pulley between the previous segment's end and this start.
+                let position = segment;
+                let turn = self.turns[rope][position];
+                if let (Point::Pulley(index), true) = (path[position], turn != 0.0) {
+                    let centre = self.point_position(path[position], &state.y);
+                    let radius = self.network.pulleys[index].radius;
+                    let arrive = contacts[position - 1].1;
+                    let from_angle = (arrive[1] - centre[1]).atan2(arrive[0] - centre[0]);
+                    let to_angle = (from[1] - centre[1]).atan2(from[0] - centre[0]);
+                    let sweep = (turn * (to_angle - from_angle)).rem_euclid(std::f64::consts::TAU);
+                    let step = arc_step.max(1e-3);
+                    #[expect(
+                        clippy::cast_possible_truncation,
+                        clippy::cast_sign_loss,
+                        reason = "a small positive count: an arc of at most 2π·R over a positive step"
+                    )]
+                    let count = ((sweep * radius / step).ceil() as usize).max(1);
+                    for k in 1..count {
+                        let angle = from_angle + turn * sweep * k as f64 / count as f64;
+                        points.push([
+                            centre[0] + radius * angle.cos(),
+                            centre[1] + radius * angle.sin(),
+                        ]);
+                    }
+                }
+                points.push(*from);
+            }
+            points.push(*to);
+        }
+        points.dedup_by(|a, b| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12);
+        points
+    }
+
     fn point_position(&self, point: Point, y: &[f64]) -> [f64; 2] {
         match point {
             Point::Fixed(p) => self.driven(p, |target| target == DrivenPoint::Fixed(p)),

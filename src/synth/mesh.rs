@@ -90,6 +90,7 @@ impl Mesh {
     }
 
     /// A copy with every vertex moved by `pose` (normals turned).
+    #[must_use]
     pub fn transformed(&self, pose: &Pose) -> Mesh {
         Mesh {
             positions: self.positions.iter().map(|p| pose.apply(*p)).collect(),

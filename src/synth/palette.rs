@@ -123,7 +123,7 @@ pub fn instance_color(id: u32) -> [u8; 4] {
     if id == 0 || id > 64 {
         return [0, 0, 0, 255];
     }
-    let golden = (1.0_f32 + 5.0_f32.sqrt()) / 2.0;
+    let golden = f32::midpoint(1.0, 5.0_f32.sqrt());
     let count = id - 1;
     #[expect(clippy::cast_precision_loss, reason = "ids are at most 64")]
     let ratio = count as f32 * golden;

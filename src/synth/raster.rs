@@ -377,16 +377,17 @@ mod tests {
         // A quad split along its diagonal, each half rendered alone: with the top-left rule no
         // pixel belongs to both halves, and together they cover exactly the whole quad.
         let camera = camera();
-        let mut quad = Mesh::default();
-        quad.positions = vec![
-            [-3.0, -3.0, 0.0],
-            [3.0, -2.0, 0.0],
-            [3.0, 3.0, 0.0],
-            [-3.0, 3.0, 0.0],
-        ];
-        quad.normals = vec![[0.0, 0.0, -1.0]; 4];
-        quad.tints = vec![1.0; 4];
-        quad.triangles = vec![[0, 1, 2], [0, 2, 3]];
+        let quad = Mesh {
+            positions: vec![
+                [-3.0, -3.0, 0.0],
+                [3.0, -2.0, 0.0],
+                [3.0, 3.0, 0.0],
+                [-3.0, 3.0, 0.0],
+            ],
+            normals: vec![[0.0, 0.0, -1.0]; 4],
+            tints: vec![1.0; 4],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
         let covered = |triangles: Vec<[u32; 3]>| {
             let mut mesh = quad.clone();
             mesh.triangles = triangles;

@@ -69,7 +69,11 @@ pub mod kind {
     pub const END_DYNAMIC_END: i32 = 9;
 }
 
-use kind::*;
+use kind::{
+    DYNAMIC_WAIT, DYNAMIC_WITH_DYN, DYNAMIC_WITH_END, DYNAMIC_WITH_LOAD, END_DYNAMIC_END,
+    END_DYNAMIC_LOAD, END_DYNAMIC_PULY, END_DYNAMIC_WAIT, END_STATIC_CEIL, END_STATIC_FLOO,
+    STATICS,
+};
 
 const UPPER: i32 = 0;
 const LOWER: i32 = 1;
@@ -473,18 +477,21 @@ fn sample_scheme(rng: &mut ChaCha8Rng) -> Scheme {
                     last = LOWER_FLAT;
                     state.push(slot(STATICS, LOWER_FLAT, big(rng), next_x, depth));
                 } else {
-                    let above = (depth > 0 && pointer >= 0)
-                        .then(|| usize::try_from(pointer).ok())
-                        .flatten()
-                        .and_then(|p| states.get(depth as usize - 1).map(|layer| (layer, p)))
-                        .and_then(|(layer, p)| layer.get(p).map(|s| (p, s.clone())));
+                    // The slot "above" is found by list index into the previous layer, walked
+                    // backwards, as the release does (not by column).
+                    let previous_layer = usize::try_from(depth - 1).ok();
+                    let above = usize::try_from(pointer)
+                        .ok()
+                        .zip(previous_layer)
+                        .and_then(|(p, layer)| states.get(layer).map(|slots| (slots, p)))
+                        .and_then(|(slots, p)| slots.get(p).map(|s| (p, s.clone())));
                     let eligible = above.as_ref().is_some_and(|(_, a)| {
                         a.position == LOWER_DYN
                             && (a.state == DYNAMIC_WAIT || a.state == END_DYNAMIC_WAIT)
                             && last != LOWER_DYN
                     });
-                    if let (true, Some((index, a))) = (eligible, above) {
-                        let layer = depth as usize - 1;
+                    if let (true, Some((index, a)), Some(layer)) = (eligible, above, previous_layer)
+                    {
                         let q: f64 = rng.random();
                         if a.state == DYNAMIC_WAIT {
                             if q < UP_WITH_UPPER_DYN_STATIC_P {
@@ -616,7 +623,7 @@ fn sample_scheme(rng: &mut ChaCha8Rng) -> Scheme {
 /// groups.
 fn try_layout(rng: &mut ChaCha8Rng) -> Result<Layout, Rejection> {
     let scheme = sample_scheme(rng);
-    if scheme.divisions.len() % 2 != 0 {
+    if !scheme.divisions.len().is_multiple_of(2) {
         return Err(Rejection::Malformed);
     }
     if scheme.divisions.iter().any(|d| d.kind == END_DYNAMIC_END) {
@@ -966,14 +973,14 @@ fn name_and_group(
     let rope_of = |name: &str| lists.iter().position(|l| l.iter().any(|n| n == name));
     let dynamic = |name: &str| name.contains("Dynamic");
     let mut label: Vec<usize> = (0..ropes.len()).collect();
-    fn find(label: &mut [usize], i: usize) -> usize {
+    let find = |label: &mut [usize], i: usize| -> usize {
         let mut root = i;
         while label[root] != root {
             root = label[root];
         }
         label[i] = root;
         root
-    }
+    };
     let mut joined_order: Vec<usize> = Vec::new();
     let union = |label: &mut Vec<usize>, a: usize, b: usize, order: &mut Vec<usize>| {
         for r in [a, b] {
@@ -1016,12 +1023,11 @@ fn name_and_group(
     let mut group_roots: Vec<usize> = Vec::new();
     for rope in order {
         let root = find(&mut label, rope);
-        match group_roots.iter().position(|&r| r == root) {
-            Some(g) => groups[g].push(rope),
-            None => {
-                group_roots.push(root);
-                groups.push(vec![rope]);
-            }
+        if let Some(g) = group_roots.iter().position(|&r| r == root) {
+            groups[g].push(rope);
+        } else {
+            group_roots.push(root);
+            groups.push(vec![rope]);
         }
     }
     let mut related_groups = Vec::new();
@@ -1245,7 +1251,10 @@ fn rearrange(layout: &mut Layout, rng: &mut ChaCha8Rng) {
                 .map(|b| b.1[1])
                 .fold(f64::NEG_INFINITY, f64::max),
         ];
-        [(low[0] + high[0]) / 2.0, (low[1] + high[1]) / 2.0]
+        [
+            f64::midpoint(low[0], high[0]),
+            f64::midpoint(low[1], high[1]),
+        ]
     };
     let moved: Vec<([f64; 2], [f64; 2])> = boxes
         .iter()
@@ -1266,8 +1275,8 @@ fn rearrange(layout: &mut Layout, rng: &mut ChaCha8Rng) {
     ];
     for (g, names) in groups.iter().enumerate() {
         let centre = [
-            (boxes[g].0[0] + boxes[g].1[0]) / 2.0,
-            (boxes[g].0[1] + boxes[g].1[1]) / 2.0,
+            f64::midpoint(boxes[g].0[0], boxes[g].1[0]),
+            f64::midpoint(boxes[g].0[1], boxes[g].1[1]),
         ];
         let shift = [
             targets[g][0] - centre[0] + delta[0],
@@ -1429,9 +1438,9 @@ mod tests {
         }
         // The release's port gives 2 ropes in 78% of scenes and a movable pulley with a load in
         // 65%; the sampler should be in that neighbourhood.
-        let two_ropes = rope_counts[2] as f64 / f64::from(samples);
+        let two_ropes = f64::from(u32::try_from(rope_counts[2]).unwrap()) / f64::from(samples);
         assert!((0.6..0.95).contains(&two_ropes), "{rope_counts:?}");
-        assert!(movable > samples as usize / 3, "{movable}");
+        assert!(movable > samples / 3, "{movable}");
     }
 
     #[test]

@@ -1,0 +1,135 @@
+//! `generate`: synthetic videos in the release format, then their questions.
+//!
+//! Videos are written by `synth` (one folder each, atomically; an interrupted generation resumes
+//! where it stopped), a manifest `generate.json` records the settings and what every video cost,
+//! and the question engine then runs over the new data root through the same loader as the real
+//! data, writing the per-video and sampled question files.
+
+use std::io::Write as _;
+use std::process::ExitCode;
+
+use serde_json::json;
+
+use super::error::{AppError, Classify as _, user_error};
+use super::progress::Progress;
+use super::questions::questions;
+use super::settings::{FramesSelection, GenerateSettings, QuestionsSettings};
+use crate::dataset::Scenario;
+use crate::perception::frames::ffmpeg_available;
+use crate::synth::rope::RopeSynth;
+use crate::synth::video::FrameOutput;
+use crate::synth::{GenerateOptions, ScenarioSynth, SynthError, generate as generate_videos};
+use crate::util::write_atomic;
+
+pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError> {
+    if settings.videos == 0 {
+        return Err(user_error("--videos must be at least 1"));
+    }
+    let (width, height) = settings.resolution;
+    if width < 16 || height < 16 || width > 7680 || height > 4320 {
+        return Err(user_error(format!(
+            "--resolution {width}x{height} is outside 16x16 to 7680x4320"
+        )));
+    }
+    let synth: &dyn ScenarioSynth = match settings.scenario {
+        Scenario::Rope => &RopeSynth,
+        other => {
+            return Err(SynthError::Unsupported(other.name().to_string())).user();
+        }
+    };
+    let frames = match settings.frames {
+        FramesSelection::Exactly(output) => {
+            if output.mp4() && !ffmpeg_available() {
+                return Err(SynthError::FfmpegMissing).user();
+            }
+            output
+        }
+        FramesSelection::Auto if ffmpeg_available() => FrameOutput::Mp4,
+        FramesSelection::Auto => {
+            let _ = writeln!(
+                std::io::stderr().lock(),
+                "note: ffmpeg is not installed; writing PNG frame folders instead of mp4"
+            );
+            FrameOutput::Png
+        }
+    };
+    let jobs = settings
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
+        .max(1);
+    let options = GenerateOptions {
+        scenario: settings.scenario,
+        videos: settings.videos,
+        seed: settings.seed,
+        out: settings.out.clone(),
+        jobs,
+        frames,
+        width,
+        height,
+    };
+    let progress = Progress::labelled(
+        u64::try_from(settings.videos).unwrap_or(u64::MAX),
+        "videos",
+        settings.quiet,
+    );
+    let report = generate_videos(synth, &options, &|_| progress.advance(0)).internal_or_user()?;
+    progress.finish();
+    let bytes: u64 = report.videos.iter().map(|v| v.bytes).sum();
+    let rejected: u64 = report
+        .videos
+        .iter()
+        .map(|v| u64::from(v.rejected_trials))
+        .sum();
+    let reused = report.videos.iter().filter(|v| v.reused).count();
+    let manifest = json!({
+        "tool": format!("contphy-eval {}", env!("CARGO_PKG_VERSION")),
+        "scenario": settings.scenario.name(),
+        "videos": settings.videos,
+        "seed": settings.seed,
+        "jobs": jobs,
+        "frames": format!("{frames:?}").to_lowercase(),
+        "resolution": [width, height],
+        "wall_ms": report.wall_ms,
+        "bytes": bytes,
+        "rejected_trials": rejected,
+        "per_video": report.videos,
+    });
+    let manifest_path = settings.out.join("generate.json");
+    let text = serde_json::to_vec_pretty(&manifest).internal()?;
+    write_atomic(&manifest_path, &text).internal()?;
+    let mut stdout = std::io::stdout().lock();
+    #[expect(clippy::cast_precision_loss, reason = "a byte count shown in MB")]
+    let megabytes = bytes as f64 / 1e6;
+    let _ = writeln!(
+        stdout,
+        "generated {} {} videos ({} kept from an earlier run) in {:.1} s with {jobs} jobs: {megabytes:.1} MB, {rejected} trials rejected by the validity checks -> {}",
+        settings.videos,
+        settings.scenario.name(),
+        reused,
+        report.wall_ms as f64 / 1000.0,
+        settings.out.join(settings.scenario.folder_name()).display(),
+    );
+    drop(stdout);
+    questions(&QuestionsSettings {
+        data: settings.out.clone(),
+        out: settings.out.clone(),
+        seed: settings.seed,
+        fact_per_video: 2,
+        dynamics_per_video: 2,
+    })
+}
+
+/// Generation errors are the environment's or the user's (paths, ffmpeg), except a scene that
+/// cannot be made valid, which is a defect of the generator.
+trait GenerateClass<T> {
+    fn internal_or_user(self) -> Result<T, AppError>;
+}
+
+impl<T> GenerateClass<T> for Result<T, SynthError> {
+    fn internal_or_user(self) -> Result<T, AppError> {
+        match self {
+            Err(error @ SynthError::NoValidScene { .. }) => Err(error).internal(),
+            other => other.user(),
+        }
+    }
+}
