@@ -1,9 +1,10 @@
 //! `bench physics --scenario rope`: the rope simulator's error against its run time over a sweep
 //! of time steps, as JSON on stdout and an SVG plot (`--svg FILE`).
 //!
-//! Mechanisms: an Atwood machine with pulley inertia and a two-rope network with a movable
-//! pulley, both with closed-form trajectories (constant accelerations while the ropes stay
-//! taut), and a load landing on the floor so that its rope goes slack and re-tightens, whose
+//! Mechanisms: an Atwood machine with pulley inertia, the same with a Coulomb bearing torque on
+//! its pulley (the rope slides over the bearing), and a two-rope network with a movable pulley,
+//! all with closed-form trajectories (constant accelerations while the ropes stay taut), and a
+//! load landing on the floor so that its rope goes slack and re-tightens, whose
 //! reference is the same simulator at a step 10× finer than the finest swept. Error: the largest
 //! difference of any body's height from the reference at the end, m.
 
@@ -74,6 +75,29 @@ fn cases() -> Result<Vec<Case>, AppError> {
     let fall = 0.5 * a * DURATION * DURATION;
     let atwood_exact = vec![-2.0 + fall, -3.0 - fall];
 
+    // The same with a bearing torque τ below the pull (g·|m2 − m1|·R = 0.49 N·m), so A falls
+    // with the rope sliding over the bearing: a = (g (m2 − m1) + τ/R) / (m1 + m2 + I/R²) for
+    // A (the bearing's τ/R opposes A's fall).
+    let torque = 0.2;
+    let bearing = Mechanism::new(Network {
+        bodies: vec![body("A", m1, -radius, -2.0), body("B", m2, radius, -3.0)],
+        pulleys: vec![Pulley {
+            friction_torque: torque,
+            ..pulley("P", radius, inertia, Mount::Fixed([0.0, 0.0]))
+        }],
+        ropes: vec![Rope {
+            name: "rope".into(),
+            path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
+        }],
+        floor: None,
+        turns: Vec::new(),
+        drives: Vec::new(),
+    })
+    .internal()?;
+    let a = (GRAVITY * (m2 - m1) + torque / radius) / (m1 + m2 + inertia / (radius * radius));
+    let fall = 0.5 * a * DURATION * DURATION;
+    let bearing_exact = vec![-2.0 + fall, -3.0 - fall];
+
     // Two ropes: y_A + y_P = c₁, 2 y_P + y_B = c₂, q̈ = −g (mP − mA − 2 mB)/(mA + mP + 4 mB).
     let (ma, mp, mb) = (0.1, 0.3, 0.05);
     let x = -4.0;
@@ -132,6 +156,11 @@ fn cases() -> Result<Vec<Case>, AppError> {
             name: "atwood_with_pulley_inertia",
             mechanism: atwood,
             exact: Some(atwood_exact),
+        },
+        Case {
+            name: "atwood_with_bearing_friction",
+            mechanism: bearing,
+            exact: Some(bearing_exact),
         },
         Case {
             name: "two_rope_network",

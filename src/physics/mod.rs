@@ -6,7 +6,7 @@
 //! (DESIGN.md §9): uses only `util`.
 //!
 //! * [`rope`]: rope–pulley networks (ideal inextensible ropes that only pull, pulley inertia,
-//!   floor and pulley stops), one complementarity problem per step.
+//!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step.
 //! * [`linalg`]: the small dense solvers they share.
 
 pub mod linalg;

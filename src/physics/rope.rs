@@ -16,23 +16,51 @@
 //! reaches its pulley stops there). Pulley inertia enters through the kinetic energy of the
 //! rope flowing over the pulley without slipping, `½ (I/R²) ṡ²`.
 //!
+//! **Bearing friction.** A pulley's bearing has a constant Coulomb torque τ
+//! ([`Pulley::friction_torque`]). The rope flows over a pulley at `ṡ = −c·v` (`c` the gradient of
+//! the rope length up to it), so the bearing acts on the bodies as a force `f` along `c`, bounded
+//! by `|f| ≤ τ/R`: while the pulley is at rest it holds with whatever force up to τ/R keeps it at
+//! rest (the tensions either side may differ by that much and nothing turns), and once the rope
+//! flows it resists with exactly τ/R against the flow. Each pass of a rope over a pulley with τ > 0
+//! adds one such row to the complementarity problem, a *boxed* variable (ropes and contacts are
+//! `[0, ∞)`, a bearing `[−τ/R, τ/R]`), so sticking and slipping are found together with the
+//! tensions. Ideal pulleys add no row, nor does a pass whose rope up to the pulley no body moves
+//! (it comes from a fixed or driven point: only a driving hand would feel that bearing). A pulley
+//! whose bearing holds does not turn. Like the inertia, the bearing acts on the rope's flow whether
+//! the rope is taut or slack (the model keeps no separate slack on either side of a pulley), and
+//! two ropes over one pulley each get the full bound. Energy is lost at `τ·|θ̇|` per pulley.
+//!
 //! **Integration.** Semi-implicit (symplectic) Euler on velocities with every constraint solved
-//! as one linear complementarity problem per step ([`super::linalg::solve_lcp`]): taut ropes,
-//! slack ropes that re-tighten (inelastically), floor contacts and segment stops are all the same
-//! kind of constraint. Position drift of taut ropes is removed in the next step (the constraint
-//! targets `L(y + dt·v) = L₀`). [`Mechanism::accelerations`] is the exact instantaneous solve
-//! (accelerations and tensions) that the analytic tests check against closed forms.
+//! as one linear complementarity problem per step ([`super::linalg::solve_boxed_lcp`]): taut
+//! ropes, slack ropes that re-tighten (inelastically), floor contacts and segment stops are all
+//! the same kind of constraint, and bearing friction is an impulse within `±(τ/R)·dt` on the
+//! flow after the step. Position drift of taut ropes is removed in the next step (the
+//! constraint targets `L(y + dt·v) = L₀`). [`Mechanism::instantaneous`] (and
+//! [`Mechanism::accelerations`]) is the exact instantaneous solve (accelerations, tensions and
+//! bearing torques) that the analytic tests check against closed forms; there a bearing whose
+//! rope flows is a known force and one at rest a boxed force.
 //!
 //! Every step checks that positions, velocities and impulses are finite; a system that cannot
 //! be simulated is a typed [`SimulationError`], never a NaN in an answer.
 
-use super::linalg::{Matrix, solve, solve_lcp};
+use super::linalg::{Matrix, solve, solve_boxed_lcp};
 
 /// Gravitational acceleration, m/s².
 pub const GRAVITY: f64 = 9.81;
 
 /// Rope length (m) by which a rope counts as taut in the instantaneous solve.
 const TAUT_TOLERANCE: f64 = 1e-9;
+
+/// Rope speed over a pulley (m/s) below which its bearing counts as holding in the
+/// instantaneous solve (static friction, a force anywhere in its bound) rather than sliding (the
+/// full bound, against the flow). Far above the rounding of a rope at rest (exactly 0) and far
+/// below any speed the scenes reach.
+const STICK_TOLERANCE: f64 = 1e-9;
+
+/// Time step (s) of the difference that gives the rope flow a driven point causes in the
+/// instantaneous solve. Drives move linearly, so the difference is exact away from a drive's
+/// start and end; its rounding is about `eps · L / h`, 1e-10 m/s for ropes of tens of metres.
+const DRIVE_PROBE: f64 = 1e-4;
 
 /// A movable body: a load, or a movable pulley's frame (its pulley is a [`Pulley`] mounted on
 /// it).
@@ -67,7 +95,8 @@ pub struct Pulley {
     /// Moment of inertia about the axle, kg·m² (0 for an ideal pulley).
     pub inertia: f64,
     /// Coulomb friction torque of the bearing, N·m (0 for an ideal pulley): the pulley does
-    /// not turn while the rope tensions either side differ by less than `friction_torque / R`.
+    /// not turn while the rope tensions either side differ by less than `friction_torque / R`,
+    /// and while it turns the bearing resists with exactly this torque.
     pub friction_torque: f64,
     /// Where the axle is.
     pub mount: Mount,
@@ -209,8 +238,25 @@ pub struct State {
     /// Pulley angles from the start, rad (counter-clockwise positive).
     pub angles: Vec<f64>,
     /// Rope tensions of the last step, N: the tension of each rope's last segment (with pulley
-    /// inertia, the segments before a pulley differ by its `I·α/R²`).
+    /// inertia or bearing friction, the segments either side of a pulley differ by
+    /// `(I·α + bearing torque)/R`, α its angular acceleration).
     pub tensions: Vec<f64>,
+    /// Bearing friction torque on each pulley in the last step, N·m, counter-clockwise positive
+    /// (it opposes the pulley's turning; 0 for ideal pulleys).
+    pub friction_torques: Vec<f64>,
+}
+
+/// The instantaneous solution at one state ([`Mechanism::instantaneous`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instantaneous {
+    /// Body vertical accelerations, m/s².
+    pub accelerations: Vec<f64>,
+    /// Rope tensions, N: the tension of each rope's last segment, 0 for a slack rope.
+    pub tensions: Vec<f64>,
+    /// Bearing friction torque on each pulley, N·m, counter-clockwise positive: the full
+    /// `friction_torque` against the turning of a pulley that turns, whatever holds a pulley
+    /// at rest (at most `friction_torque`) otherwise.
+    pub friction_torques: Vec<f64>,
 }
 
 /// One unilateral constraint `g(y) ≤ 0` with gradient `J`.
@@ -219,6 +265,17 @@ struct Constraint {
     gradient: Vec<f64>,
     /// Velocity-product term of `g̈` (`J̇·v`), for the instantaneous solve.
     curvature: f64,
+}
+
+/// One bearing-friction row: a pass of a rope over a pulley whose bearing resists the flow.
+struct FrictionRow {
+    /// Index into [`Mechanism::passes`].
+    pass: usize,
+    /// Gradient of the rope length up to the pulley, dimensionless (the rope flows forward over
+    /// the pulley at `−gradient · v`, m/s).
+    gradient: Vec<f64>,
+    /// The largest friction force at the rim, N: `friction_torque / R`.
+    bound: f64,
 }
 
 /// A checked network, ready to simulate.
@@ -267,6 +324,15 @@ impl Mechanism {
                 return Err(invalid(
                     &pulley.name,
                     format!("inertia {} must be non-negative", pulley.inertia),
+                ));
+            }
+            if !(pulley.friction_torque.is_finite() && pulley.friction_torque >= 0.0) {
+                return Err(invalid(
+                    &pulley.name,
+                    format!(
+                        "friction torque {} N·m must be non-negative",
+                        pulley.friction_torque
+                    ),
                 ));
             }
             if let Mount::Body(index) = pulley.mount
@@ -386,6 +452,7 @@ impl Mechanism {
             v: vec![0.0; self.network.bodies.len()],
             angles: vec![0.0; self.network.pulleys.len()],
             tensions: vec![0.0; self.network.ropes.len()],
+            friction_torques: vec![0.0; self.network.pulleys.len()],
         }
     }
 
@@ -710,28 +777,105 @@ impl Mechanism {
         })
     }
 
-    /// The constraint-space system: `A = J M⁻¹ Jᵀ` and the columns `M⁻¹ Jᵀ`.
+    /// The constraint-space system of the rows with these gradients: `A = J M⁻¹ Jᵀ` and the
+    /// columns `M⁻¹ Jᵀ`.
     fn constraint_system(
         m: &Matrix,
-        constraints: &[Constraint],
+        gradients: &[&[f64]],
     ) -> Result<(Matrix, Vec<Vec<f64>>), SimulationError> {
-        let columns: Vec<Vec<f64>> = constraints
+        let columns: Vec<Vec<f64>> = gradients
             .iter()
-            .map(|c| Self::inverse_mass_times(m, &c.gradient, "mass matrix"))
+            .map(|gradient| Self::inverse_mass_times(m, gradient, "mass matrix"))
             .collect::<Result<_, _>>()?;
-        let k = constraints.len();
+        let k = gradients.len();
         let mut a = Matrix::zeros(k);
-        for (i, ci) in constraints.iter().enumerate() {
+        for (i, gradient) in gradients.iter().enumerate() {
             for (j, column) in columns.iter().enumerate() {
-                a.add(i, j, dot(&ci.gradient, column));
+                a.add(i, j, dot(gradient, column));
             }
         }
         Ok((a, columns))
     }
 
+    /// The bearing-friction rows at heights `y`: one per pass of a rope over a pulley with a
+    /// bearing torque. Ideal pulleys add none (no cost), nor does a straight pass (the rope
+    /// does not touch the pulley, which does not turn), nor a pass whose flow no body moves (the
+    /// rope up to the pulley comes from a fixed or driven point, so the bearing resists only the
+    /// hand that drives it, and the bodies' motion does not depend on it).
+    fn friction_rows(&self, heights: &[f64]) -> Vec<FrictionRow> {
+        self.passes
+            .iter()
+            .enumerate()
+            .filter_map(|(pass, &(rope, position, pulley, sign))| {
+                let p = &self.network.pulleys[pulley];
+                if p.friction_torque <= 0.0 || sign == 0.0 {
+                    return None;
+                }
+                let gradient = self.flow_gradient(rope, position, heights);
+                gradient
+                    .iter()
+                    .any(|g| g.abs() > 1e-12)
+                    .then(|| FrictionRow {
+                        pass,
+                        gradient,
+                        bound: p.friction_torque / p.radius,
+                    })
+            })
+            .collect()
+    }
+
+    /// For each friction row, the rate (m/s) at which driven points lengthen the rope up to its
+    /// pulley at time `time` with the bodies held at `heights` (so the forward flow over the
+    /// pulley is `−(gradient · v + this)`); zeros when nothing is driven.
+    fn drive_flow(&self, rows: &[FrictionRow], heights: &[f64], time: f64) -> Vec<f64> {
+        if self.network.drives.is_empty() {
+            return vec![0.0; rows.len()];
+        }
+        let length_at = |rope: usize, position: usize, at: f64| {
+            self.now.set(at);
+            self.length_to(rope, position, heights)
+        };
+        let rates = rows
+            .iter()
+            .map(|row| {
+                let (rope, position, _, _) = self.passes[row.pass];
+                // Forward in time: what the drive does next, also at its start.
+                (length_at(rope, position, time + DRIVE_PROBE) - length_at(rope, position, time))
+                    / DRIVE_PROBE
+            })
+            .collect();
+        self.now.set(time);
+        rates
+    }
+
+    /// Adds each friction row's impulse (or force), turned into a bearing torque on its pulley
+    /// (counter-clockwise positive), to `torques`; `per` is the step (1 for forces).
+    fn add_friction_torques(
+        &self,
+        rows: &[FrictionRow],
+        impulses: &[f64],
+        per: f64,
+        torques: &mut [f64],
+    ) {
+        for (row, lambda) in rows.iter().zip(impulses) {
+            let (_, _, pulley, sign) = self.passes[row.pass];
+            // A positive impulse pushes the rope forward, which turns the pulley by `sign`.
+            torques[pulley] += sign * self.network.pulleys[pulley].radius * lambda / per;
+        }
+    }
+
     /// The exact accelerations (m/s²) and rope tensions (N) at `state`: ropes that are taut and
-    /// bodies that rest on the floor act; the rest are free.
+    /// bodies that rest on the floor act; the rest are free. See [`Mechanism::instantaneous`].
     pub fn accelerations(&self, state: &State) -> Result<(Vec<f64>, Vec<f64>), SimulationError> {
+        let solution = self.instantaneous(state)?;
+        Ok((solution.accelerations, solution.tensions))
+    }
+
+    /// The exact instantaneous solution at `state`: ropes that are taut and bodies that rest on
+    /// the floor act, the rest are free; a bearing whose rope flows over it resists with its
+    /// full torque, one at rest holds with whatever torque up to it keeps it at rest (a boxed
+    /// force, solved with the ropes and contacts as one complementarity problem).
+    pub fn instantaneous(&self, state: &State) -> Result<Instantaneous, SimulationError> {
         self.now.set(state.time);
         let m = self.mass_matrix(&state.y);
         let force = self.forces();
@@ -742,21 +886,39 @@ impl Mechanism {
             .enumerate()
             .filter(|(_, c)| c.gap >= -TAUT_TOLERANCE)
             .collect();
-        let chosen: Vec<Constraint> = active
+        let frictions = self.friction_rows(&state.y);
+        let drive_flow = self.drive_flow(&frictions, &state.y, state.time);
+        let gradients: Vec<&[f64]> = active
             .iter()
-            .map(|(_, c)| Constraint {
-                gap: c.gap,
-                gradient: c.gradient.clone(),
-                curvature: c.curvature,
-            })
+            .map(|(_, c)| c.gradient.as_slice())
+            .chain(frictions.iter().map(|row| row.gradient.as_slice()))
             .collect();
-        let (a, columns) = Self::constraint_system(&m, &chosen)?;
-        let q: Vec<f64> = chosen
+        let (a, columns) = Self::constraint_system(&m, &gradients)?;
+        let mut q: Vec<f64> = active
             .iter()
-            .map(|c| -(dot(&c.gradient, &free) + c.curvature))
+            .map(|(_, c)| -(dot(&c.gradient, &free) + c.curvature))
             .collect();
-        let mut impulses = vec![0.0; chosen.len()];
-        solve_lcp(&a, &q, &mut impulses);
+        let mut lower = vec![0.0; q.len()];
+        let mut upper = vec![f64::INFINITY; q.len()];
+        for (row, drive) in frictions.iter().zip(&drive_flow) {
+            let (rope, position, _, _) = self.passes[row.pass];
+            let length = |heights: &[f64]| self.length_to(rope, position, heights);
+            // u = the forward flow's acceleration, −(c·a + vᵀ ∇²ℓ v).
+            let curvature = numeric_curvature(length, &state.y, &state.v);
+            q.push(-(dot(&row.gradient, &free) + curvature));
+            let forward = -(dot(&row.gradient, &state.v) + drive);
+            if forward.abs() <= STICK_TOLERANCE {
+                lower.push(-row.bound);
+                upper.push(row.bound);
+            } else {
+                // Sliding: a known force against the flow (a one-point box).
+                let resisting = -row.bound * forward.signum();
+                lower.push(resisting);
+                upper.push(resisting);
+            }
+        }
+        let mut impulses = vec![0.0; q.len()];
+        solve_boxed_lcp(&a, &q, &lower, &upper, &mut impulses);
         let mut acceleration = free;
         for (column, lambda) in columns.iter().zip(&impulses) {
             for (ai, ci) in acceleration.iter_mut().zip(column) {
@@ -769,8 +931,17 @@ impl Mechanism {
                 tensions[*index] = *lambda;
             }
         }
+        let mut friction_torques = vec![0.0; self.network.pulleys.len()];
+        let friction_forces = impulses.get(active.len()..).unwrap_or(&[]);
+        self.add_friction_torques(&frictions, friction_forces, 1.0, &mut friction_torques);
         check_finite(state.time, "acceleration", &acceleration)?;
-        Ok((acceleration, tensions))
+        check_finite(state.time, "tension", &tensions)?;
+        check_finite(state.time, "friction torque", &friction_torques)?;
+        Ok(Instantaneous {
+            accelerations: acceleration,
+            tensions,
+            friction_torques,
+        })
     }
 
     /// Advances `state` by `dt` seconds (semi-implicit Euler with one LCP per step).
@@ -793,17 +964,44 @@ impl Mechanism {
         let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
         let predicted: Vec<f64> = state.v.iter().zip(&free).map(|(v, a)| v + dt * a).collect();
         let constraints = self.constraints(&state.y, &state.v);
-        let (a, columns) = Self::constraint_system(&m, &constraints)?;
+        // Per pass, the rope a moving anchor or pulley pulls over the pulley in this step, as a
+        // rate (m/s) of lengthening of the rope up to it; empty when nothing is driven.
+        let drive_flow: Vec<f64> = self
+            .passes
+            .iter()
+            .zip(&flow_before)
+            .map(|(&(rope, position, _, _), before)| {
+                (self.length_to(rope, position, &state.y) - before) / dt
+            })
+            .collect();
+        let frictions = self.friction_rows(&state.y);
+        let gradients: Vec<&[f64]> = constraints
+            .iter()
+            .map(|c| c.gradient.as_slice())
+            .chain(frictions.iter().map(|row| row.gradient.as_slice()))
+            .collect();
+        let (a, columns) = Self::constraint_system(&m, &gradients)?;
         // Target: g(y + dt·v⁺) ≤ 0 to first order, i.e. J·v⁺ ≤ −g/dt.
-        let q: Vec<f64> = constraints
+        let mut q: Vec<f64> = constraints
             .iter()
             .map(|c| -(dot(&c.gradient, &predicted) + c.gap / dt))
             .collect();
-        let mut impulses = vec![0.0; constraints.len()];
+        let mut lower = vec![0.0; q.len()];
+        let mut upper = vec![f64::INFINITY; q.len()];
+        // Bearing friction: u is the forward flow after the step, −(c·v⁺ + drive), and the
+        // impulse stays within ±(τ/R)·dt: the pulley holds (u = 0) until holding it would take
+        // more, then the rope slides over the bearing against exactly that impulse.
+        for row in &frictions {
+            let drive = drive_flow.get(row.pass).copied().unwrap_or(0.0);
+            q.push(-(dot(&row.gradient, &predicted) + drive));
+            lower.push(-row.bound * dt);
+            upper.push(row.bound * dt);
+        }
+        let mut impulses = vec![0.0; q.len()];
         for (slot, tension) in impulses.iter_mut().zip(&state.tensions) {
             *slot = tension * dt;
         }
-        solve_lcp(&a, &q, &mut impulses);
+        solve_boxed_lcp(&a, &q, &lower, &upper, &mut impulses);
         check_finite(state.time, "rope impulse", &impulses)?;
         let mut velocity = predicted;
         for (column, lambda) in columns.iter().zip(&impulses) {
@@ -812,14 +1010,28 @@ impl Mechanism {
             }
         }
         check_finite(state.time, "velocity", &velocity)?;
+        let friction_impulses = impulses.get(constraints.len()..).unwrap_or(&[]);
+        // A bearing whose impulse is strictly inside its bound holds: the complementarity
+        // conditions make its flow zero, so its pulley does not turn (rather than turning by the
+        // rounding residue of that zero).
+        let mut holding = vec![false; self.passes.len()];
+        for (row, lambda) in frictions.iter().zip(friction_impulses) {
+            holding[row.pass] = lambda.abs() < row.bound * dt;
+        }
+        let mut friction_torques = vec![0.0; self.network.pulleys.len()];
+        self.add_friction_torques(&frictions, friction_impulses, dt, &mut friction_torques);
+        check_finite(state.time, "friction torque", &friction_torques)?;
         // Pulley angles turn with the rope flowing over them. The rope length from the rope's
         // start to the pulley grows when material flows back towards the start, so the forward
         // flow (start → end, the direction `sign` is taken in) is its rate of shrinking.
         for (pass, &(rope, position, pulley, sign)) in self.passes.iter().enumerate() {
+            if holding[pass] {
+                continue;
+            }
             let mut forward = -dot(&self.flow_gradient(rope, position, &state.y), &velocity);
-            if let Some(before) = flow_before.get(pass) {
+            if let Some(drive) = drive_flow.get(pass) {
                 // The rope a moving anchor or pulley pulls over the pulley.
-                forward -= (self.length_to(rope, position, &state.y) - before) / dt;
+                forward -= drive;
             }
             let radius = self.network.pulleys[pulley].radius;
             state.angles[pulley] += dt * sign * forward / radius;
@@ -832,6 +1044,7 @@ impl Mechanism {
         for (tension, lambda) in state.tensions.iter_mut().zip(&impulses) {
             *tension = lambda / dt;
         }
+        state.friction_torques = friction_torques;
         state.time += dt;
         Ok(())
     }

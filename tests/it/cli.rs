@@ -177,7 +177,7 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
         );
     }
     let plot = fs_err::read_to_string(&svg).unwrap();
-    assert!(plot.starts_with("<svg") && plot.matches("<polyline").count() == 3);
+    assert!(plot.starts_with("<svg") && plot.matches("<polyline").count() == 4);
     let output = contphy(&root(), &["bench", "physics", "--scenario", "fluid"]);
     assert_eq!(output.status.code(), Some(1));
     assert!(stderr(&output).contains("rope only"), "{}", stderr(&output));

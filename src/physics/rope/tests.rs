@@ -42,9 +42,22 @@ fn close(got: f64, want: f64, what: &str) {
 
 /// Two loads on one rope over a static pulley at the origin, hanging under its rims.
 fn atwood(m1: f64, m2: f64, inertia: f64) -> Mechanism {
-    Mechanism::new(Network {
+    atwood_with_bearing(m1, m2, inertia, 0.0)
+}
+
+/// [`atwood`] with a bearing friction torque `torque` (N·m) on the pulley.
+fn atwood_with_bearing(m1: f64, m2: f64, inertia: f64, torque: f64) -> Mechanism {
+    Mechanism::new(atwood_network(m1, m2, inertia, torque)).unwrap()
+}
+
+/// The network of [`atwood_with_bearing`], unchecked.
+fn atwood_network(m1: f64, m2: f64, inertia: f64, torque: f64) -> Network {
+    Network {
         bodies: vec![body("A", m1, -R, -2.0), body("B", m2, R, -3.0)],
-        pulleys: vec![static_pulley("P", 0.0, 0.0, inertia)],
+        pulleys: vec![Pulley {
+            friction_torque: torque,
+            ..static_pulley("P", 0.0, 0.0, inertia)
+        }],
         ropes: vec![rope(
             "rope",
             vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
@@ -52,8 +65,7 @@ fn atwood(m1: f64, m2: f64, inertia: f64) -> Mechanism {
         floor: None,
         turns: Vec::new(),
         drives: Vec::new(),
-    })
-    .unwrap()
+    }
 }
 
 #[test]
@@ -521,4 +533,439 @@ fn a_pulled_anchor_lifts_its_load_and_turns_the_pulley() {
         state.v[0].abs() < 1e-6,
         "the load stops when the anchor does"
     );
+}
+
+// Bearing friction. A Coulomb bearing torque τ on a pulley of radius R carries up to τ/R of
+// tension difference across the pulley at rest; once the rope flows over it, it resists with
+// exactly τ/R against the flow.
+
+/// Semi-implicit Euler from rest under a constant acceleration `a` overshoots the closed form
+/// `½·a·T²` by exactly `½·a·dt·T` (its first-order error): `y_n = ½·a·dt²·n(n+1)`.
+fn euler_offset(a: f64, dt: f64, duration: f64) -> f64 {
+    0.5 * a * dt * duration
+}
+
+/// `got` is the closed form `exact` plus the semi-implicit Euler offset of `a`, to 1e-6 of the
+/// offset (1e-10 m absolute).
+fn first_order(got: f64, exact: f64, a: f64, dt: f64, duration: f64, what: &str) {
+    let offset = euler_offset(a, dt, duration);
+    assert!(
+        (got - exact - offset).abs() <= 1e-6 * offset.abs() + 1e-10,
+        "{what} at dt {dt}: got {got}, closed form {exact}, expected offset {offset}"
+    );
+}
+
+/// Largest height change from the start, m.
+fn largest_move(mechanism: &Mechanism, state: &State) -> f64 {
+    state
+        .y
+        .iter()
+        .zip(&mechanism.initial_state().y)
+        .map(|(y, start)| (y - start).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn atwood_with_bearing_friction_slides_at_the_closed_form() {
+    // a = (g·|m2 − m1| − τ/R) / (m1 + m2 + I/R²); the heavier side's tension exceeds the
+    // lighter side's by τ/R + I·a/R².
+    for (m1, m2, inertia, torque) in [
+        (0.15, 0.25, 0.0, 0.1),
+        (0.15, 0.25, 0.02, 0.2),
+        (0.3, 0.1, 0.02, 0.3),
+    ] {
+        let mechanism = atwood_with_bearing(m1, m2, inertia, torque);
+        let effective = m1 + m2 + inertia / (R * R);
+        // +1 when B is the heavier (A rises, and the pulley turns clockwise).
+        let d = (m2 - m1).signum();
+        let magnitude = (GRAVITY * (m2 - m1).abs() - torque / R) / effective;
+        let check = |solution: &Instantaneous, magnitude: f64, what: &str| {
+            close(solution.accelerations[0], d * magnitude, what);
+            close(solution.accelerations[1], -d * magnitude, what);
+            // B's side is the reported tension; A's follows from A's own equation of motion.
+            let t_b = solution.tensions[0];
+            let t_a = m1 * (GRAVITY + solution.accelerations[0]);
+            close(t_b, m2 * (GRAVITY - d * magnitude), what);
+            close(
+                d * (t_b - t_a),
+                torque / R + inertia * magnitude / (R * R),
+                what,
+            );
+        };
+        // From rest the bearing starts to slip at once (the static branch, a boxed force).
+        let start = mechanism.initial_state();
+        let solution = mechanism.instantaneous(&start).unwrap();
+        check(&solution, magnitude, "from rest");
+        // The bearing's full torque, against the turning (clockwise turning when d = +1).
+        close(solution.friction_torques[0], d * torque, "bearing torque");
+        // Moving with the pull: the same (the sliding branch, a known force).
+        let mut moving = start.clone();
+        moving.v = vec![d * 0.3, -d * 0.3];
+        check(
+            &mechanism.instantaneous(&moving).unwrap(),
+            magnitude,
+            "sliding with the pull",
+        );
+        // Moving against the pull: the bearing now brakes with the pull, a = (g·Δm + τ/R)/M.
+        moving.v = vec![-d * 0.3, d * 0.3];
+        let braking = (GRAVITY * (m2 - m1).abs() + torque / R) / effective;
+        let solution = mechanism.instantaneous(&moving).unwrap();
+        close(solution.accelerations[0], d * braking, "braking");
+        close(solution.friction_torques[0], -d * torque, "braking torque");
+
+        // Stepping: the closed form plus the first-order offset ½·a·dt·T, at every step.
+        let duration = 0.5;
+        for dt in [1e-2, 1e-3, 1e-4] {
+            let mut state = mechanism.initial_state();
+            mechanism.run(&mut state, duration, dt).unwrap();
+            let a = d * magnitude;
+            first_order(
+                state.y[0],
+                -2.0 + 0.5 * a * duration * duration,
+                a,
+                dt,
+                duration,
+                "A",
+            );
+            first_order(
+                state.y[1],
+                -3.0 - 0.5 * a * duration * duration,
+                -a,
+                dt,
+                duration,
+                "B",
+            );
+            close(state.tensions[0], m2 * (GRAVITY - a), "stepped tension");
+            close(
+                state.friction_torques[0],
+                d * torque,
+                "stepped bearing torque",
+            );
+            // The pulley turns by the rope that flowed over it (counter-clockwise as A falls).
+            close(state.angles[0], -(state.y[0] + 2.0) / R, "angle");
+        }
+    }
+}
+
+#[test]
+fn a_bearing_holds_below_its_torque_and_slips_just_above() {
+    let (m1, m2, inertia) = (0.2, 0.25, 0.02);
+    // The tension difference that holding the loads takes, N, and the torque it needs, N·m.
+    let pull = GRAVITY * (m2 - m1);
+    let threshold = pull * R;
+    let duration = 2.0;
+
+    // 1% more torque than that: nothing moves, and the bearing carries exactly the imbalance.
+    let mechanism = atwood_with_bearing(m1, m2, inertia, 1.01 * threshold);
+    let start = mechanism.initial_state();
+    let solution = mechanism.instantaneous(&start).unwrap();
+    assert!(
+        solution.accelerations.iter().all(|a| a.abs() < 1e-9),
+        "{:?}",
+        solution.accelerations
+    );
+    close(solution.tensions[0], m2 * GRAVITY, "held tension");
+    // B would pull A up and turn the pulley clockwise; the bearing holds counter-clockwise.
+    close(solution.friction_torques[0], threshold, "holding torque");
+    let mut state = start.clone();
+    mechanism.run(&mut state, duration, 1e-3).unwrap();
+    let moved = largest_move(&mechanism, &state);
+    assert!(moved < 1e-9, "held loads moved {moved} m");
+    assert!(
+        state.angles[0] == 0.0,
+        "a held pulley turned {}",
+        state.angles[0]
+    );
+    close(state.tensions[0], m2 * GRAVITY, "stepped held tension");
+    close(
+        state.friction_torques[0],
+        threshold,
+        "stepped holding torque",
+    );
+
+    // 1% less: it slips, a = 0.01·g·Δm / (m1 + m2 + I/R²).
+    let mechanism = atwood_with_bearing(m1, m2, inertia, 0.99 * threshold);
+    let a = (pull - 0.99 * threshold / R) / (m1 + m2 + inertia / (R * R));
+    let solution = mechanism.instantaneous(&start).unwrap();
+    close(solution.accelerations[0], a, "a just above the threshold");
+    let dt = 1e-3;
+    let mut state = mechanism.initial_state();
+    mechanism.run(&mut state, duration, dt).unwrap();
+    first_order(
+        state.y[0],
+        -2.0 + 0.5 * a * duration * duration,
+        a,
+        dt,
+        duration,
+        "A just above the threshold",
+    );
+    assert!(
+        state.y[0] + 2.0 > 0.01,
+        "A rose only {} m",
+        state.y[0] + 2.0
+    );
+    close(state.angles[0], -(state.y[0] + 2.0) / R, "angle");
+}
+
+/// A rope from A over two static pulleys side by side (the rope along their tops) down to B,
+/// each pulley with inertia `inertia` and its own bearing torque.
+fn chain_with_bearings(m1: f64, m2: f64, inertia: f64, torques: [f64; 2]) -> Mechanism {
+    Mechanism::new(Network {
+        bodies: vec![body("A", m1, -R, -2.0), body("B", m2, 4.0 * R, -3.0)],
+        pulleys: vec![
+            Pulley {
+                friction_torque: torques[0],
+                ..static_pulley("P0", 0.0, 0.0, inertia)
+            },
+            Pulley {
+                friction_torque: torques[1],
+                ..static_pulley("P1", 3.0 * R, 0.0, inertia)
+            },
+        ],
+        ropes: vec![rope(
+            "rope",
+            vec![
+                Point::Body(0),
+                Point::Pulley(0),
+                Point::Pulley(1),
+                Point::Body(1),
+            ],
+        )],
+        floor: None,
+        turns: Vec::new(),
+        drives: Vec::new(),
+    })
+    .unwrap()
+}
+
+#[test]
+fn friction_work_balances_the_lost_energy() {
+    // E(0) − E(t) = Σ τ·|Δθ| over the pulleys, while the rope slides over both bearings.
+    let (m1, m2, inertia, torques) = (0.15, 0.3, 0.01, [0.1, 0.15]);
+    let mechanism = chain_with_bearings(m1, m2, inertia, torques);
+    let a =
+        (GRAVITY * (m2 - m1) - (torques[0] + torques[1]) / R) / (m1 + m2 + 2.0 * inertia / (R * R));
+    let solution = mechanism.instantaneous(&mechanism.initial_state()).unwrap();
+    close(solution.accelerations[0], a, "a of A over two bearings");
+    let mut state = mechanism.initial_state();
+    let start = mechanism.energy(&state);
+    mechanism.run(&mut state, 0.5, 1e-4).unwrap();
+    let lost = start - mechanism.energy(&state);
+    let work: f64 = torques
+        .iter()
+        .zip(&state.angles)
+        .map(|(torque, angle)| torque * angle.abs())
+        .sum();
+    // Both pulleys turned by the same rope: by the rope length over R.
+    close(state.angles[0], state.angles[1], "angles");
+    close(state.angles[0].abs(), (state.y[0] + 2.0) / R, "angle");
+    assert!(work > 0.1, "friction work {work} J");
+    assert!(
+        (lost - work).abs() < 1e-3 * work,
+        "energy lost {lost} J, friction work {work} J"
+    );
+    // What remains is semi-implicit Euler's own first-order energy error under a constant
+    // acceleration, ½·M·a²·dt·T (4.5e-5 J here, 3.9e-4 of the work).
+    let effective = m1 + m2 + 2.0 * inertia / (R * R);
+    let integrator = 0.5 * effective * a * a * 1e-4 * 0.5;
+    assert!(
+        (lost - work - integrator).abs() < 1e-3 * integrator,
+        "energy lost {lost} J, friction work {work} J, integrator error {integrator} J"
+    );
+}
+
+#[test]
+fn bearings_on_a_movable_pulley_system_match_the_reduced_closed_form() {
+    // The compound system of `movable_pulley_compound_system` with bearings on both pulleys.
+    // With q = y_m (and y_p = (c − q)/2) the rope runs over the static pulley at |q̇| and over
+    // the movable one at |q̇|/2, so the bearings' generalised force is f_s + f_p/2 (f = τ/R):
+    // (m + M/4)·q̈ = g·(M/2 − m) − f_s − f_p/2 while M > 2m lifts m.
+    let (m, big, tau_p, tau_s) = (0.15, 0.5, 0.2, 0.1);
+    let ceiling = [-2.0 * R, 2.0];
+    let mechanism = Mechanism::new(Network {
+        bodies: vec![
+            body("pulley+load", big, -R, -3.0),
+            body("m", m, 2.0 * R, -2.0),
+        ],
+        pulleys: vec![
+            Pulley {
+                name: "movable".into(),
+                radius: R,
+                inertia: 0.0,
+                friction_torque: tau_p,
+                mount: Mount::Body(0),
+            },
+            Pulley {
+                friction_torque: tau_s,
+                ..static_pulley("static", R, 2.0, 0.0)
+            },
+        ],
+        ropes: vec![rope(
+            "main",
+            vec![
+                Point::Fixed(ceiling),
+                Point::Pulley(0),
+                Point::Pulley(1),
+                Point::Body(1),
+            ],
+        )],
+        floor: None,
+        turns: Vec::new(),
+        drives: Vec::new(),
+    })
+    .unwrap();
+    let a_m = (GRAVITY * (big / 2.0 - m) - tau_s / R - tau_p / (2.0 * R)) / (m + big / 4.0);
+    let solution = mechanism.instantaneous(&mechanism.initial_state()).unwrap();
+    close(solution.accelerations[1], a_m, "a of m");
+    close(
+        solution.accelerations[0],
+        -a_m / 2.0,
+        "a of the movable pulley",
+    );
+    close(solution.tensions[0], m * (GRAVITY + a_m), "tension");
+    let dt = 1e-3;
+    let mut state = mechanism.initial_state();
+    mechanism.run(&mut state, 0.5, dt).unwrap();
+    first_order(state.y[1], -2.0 + 0.125 * a_m, a_m, dt, 0.5, "m");
+}
+
+#[test]
+fn extreme_bearing_friction_stays_finite() {
+    // A bearing of 1e6 N·m holds the loads still and stays finite.
+    let (m1, m2) = (0.2, 0.3);
+    let mechanism = atwood_with_bearing(m1, m2, 0.02, 1e6);
+    let mut state = mechanism.initial_state();
+    mechanism.run(&mut state, 2.0, 1e-3).unwrap();
+    let moved = largest_move(&mechanism, &state);
+    assert!(moved < 1e-9, "moved {moved} m");
+    assert!(state.angles[0] == 0.0);
+    close(
+        state.friction_torques[0],
+        GRAVITY * (m2 - m1) * R,
+        "holding torque",
+    );
+    // Mass ratios of 1e3: sliding at a quarter of the pull's torque, held at four times it.
+    for (m1, m2) in [(1.0, 1e3), (1e3, 1.0), (1e-3, 1.0_f64)] {
+        let pull = GRAVITY * (m2 - m1).abs();
+        let d = (m2 - m1).signum();
+        let sliding = atwood_with_bearing(m1, m2, 0.0, 0.25 * pull * R);
+        let a = d * 0.75 * pull / (m1 + m2);
+        let solution = sliding.instantaneous(&sliding.initial_state()).unwrap();
+        close(solution.accelerations[0], a, "a of A");
+        let dt = 1e-3;
+        let mut state = sliding.initial_state();
+        sliding.run(&mut state, 0.3, dt).unwrap();
+        assert!(state.y.iter().chain(&state.v).all(|v| v.is_finite()));
+        first_order(state.y[0], -2.0 + 0.045 * a, a, dt, 0.3, "A");
+        let held = atwood_with_bearing(m1, m2, 0.0, 4.0 * pull * R);
+        let mut state = held.initial_state();
+        held.run(&mut state, 0.3, dt).unwrap();
+        let moved = largest_move(&held, &state);
+        assert!(moved < 1e-9, "{m1} / {m2}: moved {moved} m");
+        close(state.friction_torques[0], d * pull * R, "holding torque");
+    }
+}
+
+#[test]
+fn two_held_bearings_on_one_rope_keep_it_still() {
+    // Each bearing alone would slip (0.6 of the pull each), together they hold; their rows are
+    // the same (both measure the flow of A's side), so the split between them is not unique,
+    // only the sum, which must be the pull.
+    let (m1, m2) = (0.15, 0.3);
+    let pull_torque = GRAVITY * (m2 - m1) * R;
+    let mechanism = chain_with_bearings(m1, m2, 0.01, [0.6 * pull_torque; 2]);
+    let mut state = mechanism.initial_state();
+    mechanism.run(&mut state, 2.0, 1e-3).unwrap();
+    let moved = largest_move(&mechanism, &state);
+    assert!(moved < 1e-9, "moved {moved} m");
+    assert!(
+        state.angles.iter().all(|a| a.abs() < 1e-12),
+        "{:?}",
+        state.angles
+    );
+    close(
+        state.friction_torques[0] + state.friction_torques[1],
+        pull_torque,
+        "held torque",
+    );
+}
+
+#[test]
+fn invalid_bearing_friction_is_a_typed_error() {
+    for torque in [-0.1, f64::NAN, f64::INFINITY] {
+        let error = Mechanism::new(atwood_network(0.2, 0.3, 0.0, torque)).unwrap_err();
+        let SimulationError::InvalidParameter { object, problem } = &error else {
+            panic!("{error:?}");
+        };
+        assert_eq!(object, "P");
+        assert!(problem.contains("friction torque"), "{error}");
+    }
+    // Zero is an ideal bearing.
+    assert!(Mechanism::new(atwood_network(0.2, 0.3, 0.0, 0.0)).is_ok());
+}
+
+#[test]
+fn a_driven_pulley_with_a_bearing_is_the_atwood_machine_in_its_frame() {
+    // The pulley rises at a constant u and the loads start rising with it: in the pulley's
+    // (inertial) frame this is the Atwood machine with bearing friction, so A's height is
+    // −2 + u·T + ½·a·T² with a = (g·(m2 − m1) − τ/R)/(m1 + m2 + I/R²) while the bearing slips,
+    // and −2 + u·T with the pulley not turning while it holds. The bearing sees only the rope's
+    // flow relative to the pulley, v_A − u.
+    let (m1, m2, inertia, u) = (0.15, 0.25, 0.02, 0.5);
+    let threshold = GRAVITY * (m2 - m1) * R;
+    let driven = |torque: f64| {
+        Mechanism::new(Network {
+            drives: vec![Drive {
+                point: DrivenPoint::Pulley(0),
+                velocity: u,
+                start: 0.0,
+                distance: 10.0,
+            }],
+            ..atwood_network(m1, m2, inertia, torque)
+        })
+        .unwrap()
+    };
+    let duration = 1.0;
+    let dt = 1e-3;
+
+    let mechanism = driven(0.5 * threshold);
+    let a = (GRAVITY * (m2 - m1) - 0.5 * threshold / R) / (m1 + m2 + inertia / (R * R));
+    let mut state = mechanism.initial_state();
+    state.v = vec![u, u];
+    let solution = mechanism.instantaneous(&state).unwrap();
+    close(solution.accelerations[0], a, "a of A in the pulley's frame");
+    close(
+        solution.friction_torques[0],
+        0.5 * threshold,
+        "bearing torque",
+    );
+    mechanism.run(&mut state, duration, dt).unwrap();
+    first_order(
+        state.y[0] - u * duration,
+        -2.0 + 0.5 * a * duration * duration,
+        a,
+        dt,
+        duration,
+        "A relative to the pulley",
+    );
+    close(
+        state.angles[0],
+        -(state.y[0] + 2.0 - u * duration) / R,
+        "angle from the relative flow",
+    );
+
+    let mechanism = driven(1.01 * threshold);
+    let mut state = mechanism.initial_state();
+    state.v = vec![u, u];
+    mechanism.run(&mut state, duration, dt).unwrap();
+    for (y, start) in state.y.iter().zip([-2.0, -3.0]) {
+        assert!(
+            (y - start - u * duration).abs() < 1e-9,
+            "{:?} after riding up {} m",
+            state.y,
+            u * duration
+        );
+    }
+    assert!(state.angles[0] == 0.0, "{}", state.angles[0]);
+    close(state.friction_torques[0], threshold, "holding torque");
 }
