@@ -125,6 +125,14 @@ pub fn solve_boxed_lcp(
     z: &mut [f64],
 ) -> usize {
     let n = a.size();
+    // Warm start: in a time-stepped simulation the set of active constraints rarely changes
+    // from one step to the next, so the exact solve on the warm start's active set is usually
+    // already the solution, and the iterations are skipped.
+    let mut trial = z.to_vec();
+    if polish(a, q, lower, upper, &mut trial) {
+        z.copy_from_slice(&trial);
+        return 0;
+    }
     let scale = q.iter().fold(1e-300_f64, |acc, v| acc.max(v.abs()));
     let mut iterations = 0;
     for sweep in 0..1000 {
@@ -148,22 +156,21 @@ pub fn solve_boxed_lcp(
             break;
         }
     }
-    polish(a, q, lower, upper, z);
+    // When the iterations did not settle the active set exactly, their result stands.
+    let _exact = polish(a, q, lower, upper, z);
     iterations
 }
 
 /// Solves exactly the subsystem of the variables PGS left strictly inside their boxes (the
-/// others held at the bound they reached); keeps it if it is a solution of the whole problem.
-fn polish(a: &Matrix, q: &[f64], lower: &[f64], upper: &[f64], z: &mut [f64]) {
+/// others held at the bound they reached); keeps it, and returns `true`, if it is a solution of
+/// the whole problem.
+fn polish(a: &Matrix, q: &[f64], lower: &[f64], upper: &[f64], z: &mut [f64]) -> bool {
     let size = a.size();
     let at_lower: Vec<bool> = (0..size).map(|i| z[i] <= lower[i]).collect();
     let at_upper: Vec<bool> = (0..size).map(|i| z[i] >= upper[i]).collect();
     let active: Vec<usize> = (0..size)
         .filter(|&i| !at_lower[i] && !at_upper[i])
         .collect();
-    if active.is_empty() {
-        return;
-    }
     // Held variables sit exactly on a bound; an unbounded-below or -above side is never held.
     let mut candidate = vec![0.0; size];
     for i in 0..size {
@@ -189,11 +196,13 @@ fn polish(a: &Matrix, q: &[f64], lower: &[f64], upper: &[f64], z: &mut [f64]) {
                 .fold(-q[i], |acc, j| acc - a.get(i, j) * candidate[j])
         })
         .collect();
-    let Some(exact) = solve(&sub, &rhs) else {
-        return;
-    };
-    for (r, &i) in active.iter().enumerate() {
-        candidate[i] = exact[r];
+    if !active.is_empty() {
+        let Some(exact) = solve(&sub, &rhs) else {
+            return false;
+        };
+        for (r, &i) in active.iter().enumerate() {
+            candidate[i] = exact[r];
+        }
     }
     let scale = q.iter().fold(1e-300_f64, |acc, v| acc.max(v.abs()));
     let residuals: Vec<f64> = a
@@ -218,6 +227,7 @@ fn polish(a: &Matrix, q: &[f64], lower: &[f64], upper: &[f64], z: &mut [f64]) {
             *slot = value.max(lower[i]).min(upper[i]);
         }
     }
+    feasible
 }
 
 #[cfg(test)]
