@@ -86,7 +86,8 @@ enum PerceptionArg {
 enum DynamicsArg {
     /// Counterfactual and factual outcomes from the annotations (the paper's offline mode).
     Annotation,
-    /// Outcomes simulated from the mechanism rebuilt from the video (rope scenes).
+    /// Outcomes simulated from the mechanism rebuilt from the video, masses inferred from its
+    /// tracked motion (rope scenes).
     Simulate,
 }
 

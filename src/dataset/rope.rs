@@ -20,6 +20,8 @@ use super::fields::{Node, read_json};
 pub mod world {
     /// One physics update of the generator, s (60 Hz); frames are taken every second update.
     pub const UPDATE_SECONDS: f64 = 1.0 / 60.0;
+    /// Updates from one captured frame (video frame, 4-D record) to the next.
+    pub const UPDATES_PER_FRAME: u32 = 2;
     /// The update at which the factual run applies its random masses and starts recording
     /// (and counterfactual runs make their change).
     pub const CHANGE_UPDATE: u32 = 100;
@@ -31,6 +33,9 @@ pub mod world {
     pub const MOTION_THRESHOLD: f64 = 1.2;
     /// Turn from the change that counts as rotation, degrees.
     pub const ROTATION_THRESHOLD_DEG: f64 = 35.0;
+    /// The masses a factual run draws each load's from, kg, in the generator's order (times
+    /// the load's multiplier).
+    pub const LOAD_MASSES_KG: [f64; 3] = [0.15, 0.25, 0.20];
     /// Every load's mass in counterfactual runs (and before the change), kg, times its
     /// multiplier.
     pub const BASELINE_MASS_KG: f64 = 0.2;

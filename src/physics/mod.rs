@@ -1,12 +1,14 @@
 //! Physics simulators, in f64 with SI units (metres, kilograms, seconds): what `--dynamics
 //! simulate` answers from instead of the annotations.
 //!
-//! Input: a mechanism described by the scene layer (bodies, pulleys, ropes). Output: states
-//! over time, constraint forces, and typed errors for what cannot be simulated. Layer 1
+//! Input: a mechanism described by the scene layer (bodies, pulleys, ropes), and for
+//! identification observed heights over time. Output: states over time, constraint forces,
+//! ranked mass candidates with verdicts, and typed errors for what cannot be simulated. Layer 1
 //! (DESIGN.md §9): uses only `util`.
 //!
 //! * [`rope`]: rope–pulley networks (ideal inextensible ropes that only pull, pulley inertia,
-//!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step.
+//!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step;
+//!   [`rope::identify`] infers load masses from observed motion.
 //! * [`linalg`]: the small dense solvers they share.
 
 pub mod linalg;

@@ -42,8 +42,13 @@
 //!
 //! Every step checks that positions, velocities and impulses are finite; a system that cannot
 //! be simulated is a typed [`SimulationError`], never a NaN in an answer.
+//!
+//! **Identification.** [`identify`] runs the model backwards: from tracked heights to the load
+//! masses that explain them, through [`Mechanism::observed_accelerations`].
 
-use super::linalg::{Matrix, solve, solve_boxed_lcp};
+use super::linalg::{Matrix, solve, solve_boxed_lcp, solve_lcp};
+
+pub mod identify;
 
 /// Gravitational acceleration, m/s².
 pub const GRAVITY: f64 = 9.81;
@@ -259,7 +264,21 @@ pub struct Instantaneous {
     pub friction_torques: Vec<f64>,
 }
 
+/// The instantaneous solve at an observed state ([`Mechanism::observed_accelerations`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instant {
+    /// Body vertical accelerations, m/s².
+    pub accelerations: Vec<f64>,
+    /// Rope tensions, N (each rope's last segment, as in [`State::tensions`]; 0 when slack).
+    pub tensions: Vec<f64>,
+    /// Per body: a floor or segment stop pushes on it (it rests against the stop).
+    pub stopped: Vec<bool>,
+    /// Per rope: taut within the tolerance (a slack rope neither pulls nor turns its pulleys).
+    pub taut: Vec<bool>,
+}
+
 /// One unilateral constraint `g(y) ≤ 0` with gradient `J`.
+#[derive(Clone)]
 struct Constraint {
     gap: f64,
     gradient: Vec<f64>,
@@ -694,6 +713,12 @@ impl Mechanism {
 
     /// The mass matrix at `y`: body masses plus the pulleys' rotational inertia.
     fn mass_matrix(&self, heights: &[f64]) -> Matrix {
+        self.mass_matrix_turning(heights, |_| true)
+    }
+
+    /// The mass matrix at `y` with the inertia of the pulleys that the ropes `turning(rope)`
+    /// pass over (a slack rope does not turn its pulleys, so they add nothing to its bodies).
+    fn mass_matrix_turning(&self, heights: &[f64], turning: impl Fn(usize) -> bool) -> Matrix {
         let count = heights.len();
         let mut matrix = Matrix::zeros(count);
         for (i, body) in self.network.bodies.iter().enumerate() {
@@ -701,7 +726,7 @@ impl Mechanism {
         }
         for &(rope, position, pulley, _) in &self.passes {
             let p = &self.network.pulleys[pulley];
-            if p.inertia > 0.0 {
+            if p.inertia > 0.0 && turning(rope) {
                 let c = self.flow_gradient(rope, position, heights);
                 let factor = p.inertia / (p.radius * p.radius);
                 for i in 0..count {
@@ -941,6 +966,91 @@ impl Mechanism {
             accelerations: acceleration,
             tensions,
             friction_torques,
+        })
+    }
+
+    /// The instantaneous solve at an *observed* state, whose positions carry measurement
+    /// error: a rope counts as taut, and a floor or segment stop as touching, within
+    /// `tolerance` metres of its limit (the complementarity problem then decides whether it
+    /// acts), and a rope slack beyond it leaves its pulleys' inertia out, as a rope that does
+    /// not grip a pulley does not turn it. Also tells which bodies a stop pushes on.
+    ///
+    /// [`Mechanism::accelerations`] is the same solve at the simulator's own tolerance
+    /// (1e-9 m) with every pulley's inertia in, as [`Mechanism::step`] integrates it.
+    pub fn observed_accelerations(
+        &self,
+        state: &State,
+        tolerance: f64,
+    ) -> Result<Instant, SimulationError> {
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(SimulationError::InvalidParameter {
+                object: "observed state".to_string(),
+                problem: format!("contact tolerance {tolerance} m must be non-negative"),
+            });
+        }
+        check_finite(state.time, "observed height", &state.y)?;
+        check_finite(state.time, "observed velocity", &state.v)?;
+        if state.y.len() != self.network.bodies.len() || state.v.len() != state.y.len() {
+            return Err(SimulationError::InvalidParameter {
+                object: "observed state".to_string(),
+                problem: format!(
+                    "{} heights and {} velocities for {} bodies",
+                    state.y.len(),
+                    state.v.len(),
+                    self.network.bodies.len()
+                ),
+            });
+        }
+        self.now.set(state.time);
+        let taut: Vec<bool> = (0..self.network.ropes.len())
+            .map(|rope| self.rope_length(rope, &state.y) - self.rest_lengths[rope] >= -tolerance)
+            .collect();
+        let m = self.mass_matrix_turning(&state.y, |rope| taut[rope]);
+        let force = self.forces();
+        let free = Self::inverse_mass_times(&m, &force, "mass matrix")?;
+        let all = self.constraints(&state.y, &state.v);
+        let active: Vec<(usize, Constraint)> = all
+            .into_iter()
+            .enumerate()
+            .filter(|(_, c)| c.gap >= -tolerance)
+            .collect();
+        let chosen: Vec<Constraint> = active.iter().map(|(_, c)| c.clone()).collect();
+        let gradients: Vec<&[f64]> = chosen.iter().map(|c| c.gradient.as_slice()).collect();
+        let (a, columns) = Self::constraint_system(&m, &gradients)?;
+        let q: Vec<f64> = chosen
+            .iter()
+            .map(|c| -(dot(&c.gradient, &free) + c.curvature))
+            .collect();
+        let mut forces = vec![0.0; chosen.len()];
+        solve_lcp(&a, &q, &mut forces);
+        check_finite(state.time, "constraint force", &forces)?;
+        let mut accelerations = free;
+        for (column, lambda) in columns.iter().zip(&forces) {
+            for (ai, ci) in accelerations.iter_mut().zip(column) {
+                *ai -= ci * lambda;
+            }
+        }
+        check_finite(state.time, "acceleration", &accelerations)?;
+        // A stop pushes when its force is more than rounding of the weights it holds.
+        let weight: f64 = self.network.bodies.iter().map(|b| b.mass * GRAVITY).sum();
+        let mut tensions = vec![0.0; self.network.ropes.len()];
+        let mut stopped = vec![false; self.network.bodies.len()];
+        for ((index, constraint), lambda) in active.iter().zip(&forces) {
+            if *index < tensions.len() {
+                tensions[*index] = *lambda;
+            } else if *lambda > 1e-9 * weight {
+                for (flag, gradient) in stopped.iter_mut().zip(&constraint.gradient) {
+                    if gradient.abs() > 1e-12 {
+                        *flag = true;
+                    }
+                }
+            }
+        }
+        Ok(Instant {
+            accelerations,
+            tensions,
+            stopped,
+            taut,
         })
     }
 

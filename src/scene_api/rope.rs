@@ -1,34 +1,37 @@
-//! The rope scene with oracle backends: objects from the annotation names, masses from
-//! `outputMass`, and motion/rotation from the factual results (`simulate`) or the mass
-//! counterfactual runs (`increase`/`decrease` of a load's mass), as the paper's offline mode does.
+//! The rope scene: objects from the annotation names; with `--dynamics annotation` (the
+//! paper's offline mode) masses from `outputMass` and motion/rotation from the factual results
+//! (`simulate`) or the mass counterfactual runs (`increase`/`decrease` of a load's mass); with
+//! `--dynamics simulate` motion/rotation from simulated runs and masses inferred from the
+//! tracked motion (`rope_sim`), as ContPRO does.
 //!
-//! Units: mass in kg (the benchmark's nominal mass, `ceil(m·100)/100` of `outputMass`, so loads
-//! under a movable pulley read exactly double, see `dataset::engine::EngineObject`); tension in N (the weight of the load the
-//! rope carries, `m·g` with g = 9.81 m/s²), which is what the benchmark's tension questions compare.
+//! Units: mass in kg (the benchmark's nominal mass, `ceil(m·100)/100`, so loads under a movable
+//! pulley read exactly double, see `dataset::engine::EngineObject`); tension in N (the weight of
+//! the load the rope carries, `m·g` with g = 9.81 m/s²), which is what the benchmark's tension
+//! questions compare. Inferred masses are the best-explaining candidates, and a pair reads
+//! "cannot tell" (`None`) unless the motion decides how the two compare.
 
 use std::path::Path;
 
 use indexmap::IndexMap;
 
 use std::collections::BTreeMap;
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::rope_sim::{RopeOutcome, simulate_rope};
+use super::rope_sim::{
+    RopeMassInference, RopeOutcome, Run, infer_rope_masses, load_multiplier, simulate_rope,
+};
 use super::scene::{DynamicsBackend, EventAction, Property, ScenarioBackend, SceneEvent, Target};
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{
     FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name,
+    rope_world as world,
 };
+use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
 
 /// The motion and rotation results of one dynamic scene (name → −1, 0, +1).
 type Outcomes = (IndexMap<String, i8>, IndexMap<String, i8>);
-
-/// Mass change of a counterfactual run per unit of the load's multiplier, kg (FORMAT.md §2.3).
-const COUNTERFACTUAL_MASS_STEP_KG: f64 = 0.1;
-/// Mass every load is reset to before a counterfactual change, per unit of multiplier, kg.
-const COUNTERFACTUAL_BASE_MASS_KG: f64 = 0.2;
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
@@ -53,6 +56,8 @@ pub(crate) struct RopeBackend {
     simulated: Mutex<BTreeMap<(u8, Option<u32>), RopeOutcome>>,
     /// Simulator runs and steps done, for the work counters.
     simulation_work: Mutex<(u64, u64)>,
+    /// The masses inferred from the tracked motion (`Simulate`), on first use.
+    inference: OnceLock<Result<RopeMassInference, ApiError>>,
 }
 
 impl RopeBackend {
@@ -135,6 +140,7 @@ impl RopeBackend {
             four_d: None,
             simulated: Mutex::new(BTreeMap::new()),
             simulation_work: Mutex::new((0, 0)),
+            inference: OnceLock::new(),
         })
     }
 
@@ -206,8 +212,8 @@ impl RopeBackend {
         {
             return Ok((done.motion.clone(), done.rotation.clone()));
         }
-        let masses = match event.action {
-            EventAction::Simulate => self.annotation.output_mass_kg.clone(),
+        let (masses, run) = match event.action {
+            EventAction::Simulate => (self.annotation.output_mass_kg.clone(), Run::Factual),
             EventAction::Increase | EventAction::Decrease => {
                 let load = self.info(
                     event
@@ -222,19 +228,19 @@ impl RopeBackend {
                         load.describe()
                     ))
                 })?;
-                let multiplier = base / COUNTERFACTUAL_BASE_MASS_KG;
-                let step = COUNTERFACTUAL_MASS_STEP_KG * multiplier;
+                let multiplier = base / world::BASELINE_MASS_KG;
+                let step = world::COUNTERFACTUAL_MASS_STEP_KG * multiplier;
                 let changed = if event.action == EventAction::Decrease {
                     base - step
                 } else {
                     base + step
                 };
                 masses.insert(load.name.clone(), changed);
-                masses
+                (masses, Run::Counterfactual)
             }
             EventAction::Emit | EventAction::Remove => return Err(event_misuse()),
         };
-        let outcome = simulate_rope(&self.annotation, self.four_d.as_ref(), &masses, None)
+        let outcome = simulate_rope(&self.annotation, self.four_d.as_ref(), &masses, None, run)
             .map_err(|error| {
                 ApiError::Unavailable(format!("cannot simulate this video: {error}"))
             })?;
@@ -261,28 +267,147 @@ impl RopeBackend {
         if let Some(pair) = self.annotation.counterfactuals.first() {
             return pair.baseline_mass_kg.clone();
         }
-        let under_movable = |load: &str| {
-            self.annotation
-                .related_groups_in_rope
-                .iter()
-                .flat_map(|group| group.iter())
-                .any(|(rope, elements)| {
-                    let path: Vec<&String> = elements.iter().filter(|e| *e != rope).collect();
-                    path.windows(2).any(|pair| {
-                        (pair[0] == load && pair[1].contains("Dynamic Pulley"))
-                            || (pair[1] == load && pair[0].contains("Dynamic Pulley"))
-                    })
-                })
-        };
         self.annotation
             .output_mass_kg
             .keys()
             .map(|name| {
-                let multiplier = if under_movable(name) { 1.975 } else { 1.0 };
-                (name.clone(), COUNTERFACTUAL_BASE_MASS_KG * multiplier)
+                let multiplier = load_multiplier(&self.annotation, name);
+                (name.clone(), world::BASELINE_MASS_KG * multiplier)
             })
             .collect()
     }
+
+    /// The load masses inferred from the tracked motion, once per scene.
+    fn mass_inference(&self) -> Result<&RopeMassInference, ApiError> {
+        let inferred = self.inference.get_or_init(|| {
+            let four_d = self.four_d.as_ref().ok_or_else(|| {
+                ApiError::Unavailable(
+                    "masses are inferred from the tracked motion, and this video has no outputs4D.json"
+                        .to_string(),
+                )
+            })?;
+            infer_rope_masses(&self.annotation, four_d).map_err(|error| {
+                ApiError::Unavailable(format!(
+                    "cannot infer masses from this video's motion: {error}"
+                ))
+            })
+        });
+        inferred.as_ref().map_err(Clone::clone)
+    }
+
+    /// The loads a rope carries (`object_rope_map`), by annotation name.
+    fn loads_on(&self, rope: usize) -> Vec<&str> {
+        self.structure
+            .loads()
+            .filter(|load| self.structure.rope_of(*load) == Some(rope))
+            .filter_map(|load| self.objects.get(load).map(|o| o.name.as_str()))
+            .collect()
+    }
+
+    /// `query` under `Simulate`: masses and tensions from the tracked motion. The objects are
+    /// already checked to have the property.
+    fn query_observed(
+        &self,
+        property: Property,
+        infos: &[&SceneObjectInfo],
+    ) -> Result<Vec<Option<f64>>, ApiError> {
+        let inference = self.mass_inference()?;
+        let unknown = || vec![None; infos.len()];
+        if let [first, second] = infos
+            && !self.comparable(first, second)
+        {
+            return Ok(unknown());
+        }
+        match property {
+            Property::Mass => {
+                let mut loads: Vec<&str> = infos.iter().map(|o| o.name.as_str()).collect();
+                loads.dedup();
+                let Some(masses) = observed_masses(inference, &loads) else {
+                    return Ok(unknown());
+                };
+                Ok(infos
+                    .iter()
+                    .map(|o| {
+                        loads
+                            .iter()
+                            .position(|l| *l == o.name)
+                            .and_then(|at| masses.get(at).copied())
+                    })
+                    .collect())
+            }
+            Property::Tension => {
+                // Tension is the weight of the load a rope carries; it is known when the loads
+                // involved compare decidedly and each rope's loads weigh the same.
+                let per_rope: Vec<Vec<&str>> = infos
+                    .iter()
+                    .map(|o| self.loads_on(o.id.0 as usize))
+                    .collect();
+                let mut loads: Vec<&str> = per_rope.iter().flatten().copied().collect();
+                loads.sort_unstable();
+                loads.dedup();
+                let Some(masses) = observed_masses(inference, &loads) else {
+                    return Ok(unknown());
+                };
+                let mass_of = |load: &str| {
+                    loads
+                        .iter()
+                        .position(|l| *l == load)
+                        .and_then(|at| masses.get(at).copied())
+                };
+                let values: Vec<Option<f64>> = per_rope
+                    .iter()
+                    .map(|carried| {
+                        let first = mass_of(carried.first()?)?;
+                        carried
+                            .iter()
+                            .all(|load| mass_of(load).is_some_and(|m| (m - first).abs() < 1e-9))
+                            .then_some(first * GRAVITY_M_PER_S2)
+                    })
+                    .collect();
+                if values.iter().any(Option::is_none) {
+                    return Ok(unknown());
+                }
+                Ok(values)
+            }
+            _ => Ok(unknown()),
+        }
+    }
+}
+
+/// Nominal masses (kg) of `loads` from the motion: when one load's mass is determined, or
+/// every pair of them is decided; `None` when the motion cannot tell.
+fn observed_masses(inference: &RopeMassInference, loads: &[&str]) -> Option<Vec<f64>> {
+    match loads {
+        [] => None,
+        [load] => match inference.load(load)? {
+            BodyVerdict::Determined { mass } => Some(vec![nominal_kg(*mass)]),
+            BodyVerdict::Undetermined(_) => None,
+        },
+        _ => {
+            let mut masses = vec![None; loads.len()];
+            for (i, first) in loads.iter().enumerate() {
+                for (j, second) in loads.iter().enumerate().skip(i + 1) {
+                    if first == second {
+                        continue;
+                    }
+                    let PairVerdict::Decided { masses: pair, .. } =
+                        inference.pair(first, second)?
+                    else {
+                        return None;
+                    };
+                    masses[i] = Some(nominal_kg(pair[0]));
+                    masses[j] = Some(nominal_kg(pair[1]));
+                }
+            }
+            masses.into_iter().collect()
+        }
+    }
+}
+
+/// The benchmark's nominal mass of a simulated one, kg: `ceil(m·100)/100` (FORMAT.md §8.1), so a
+/// load of 1.975 × 0.2 kg reads 0.4.
+fn nominal_kg(mass: f64) -> f64 {
+    (mass * 100.0).ceil() / 100.0
 }
 
 fn event_misuse() -> ApiError {
@@ -350,6 +475,9 @@ impl ScenarioBackend for RopeBackend {
                 )));
             }
         };
+        if self.dynamics == DynamicsBackend::Simulate {
+            return self.query_observed(property, &infos);
+        }
         if let [first, second] = infos.as_slice() {
             // Objects in different mechanically coupled groups cannot be compared from the video
             // (the benchmark answers "can not answer").
@@ -476,6 +604,10 @@ mod tests {
     use crate::scene_api::{DynamicsBackend, PerceptionBackend, Scene, VideoSpec};
 
     fn scene() -> Scene {
+        scene_with(DynamicsBackend::Annotation)
+    }
+
+    fn scene_with(dynamics: DynamicsBackend) -> Scene {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
         let video = crate::dataset::VideoFolder {
             scenario: Scenario::Rope,
@@ -485,7 +617,7 @@ mod tests {
         Scene::open(VideoSpec::new(
             &video,
             PerceptionBackend::Annotation,
-            DynamicsBackend::Annotation,
+            dynamics,
         ))
     }
 
@@ -616,6 +748,78 @@ mod tests {
                 "`{error}` lacks `{expected}`"
             );
         }
+    }
+
+    #[test]
+    fn simulated_dynamics_infer_masses_from_the_tracked_motion() {
+        // The cubes' tracked accelerations (0.269 and −0.267 units/s²) fit 0.2 kg against
+        // 0.25 kg over the 1 kg disc pulleys best; 0.15 against 0.2 fits nearly as well, and
+        // both say "less than", so the pair is decided. The pink sphere hangs from a ceiling
+        // point: its mass does not show, and it is in another group anyway.
+        let scene = scene_with(DynamicsBackend::Simulate);
+        let purple = one(&scene, "purple cube");
+        let green = one(&scene, "green cube");
+        let pink = one(&scene, "pink sphere");
+        assert_eq!(
+            scene.query_pair("mass", purple, green).unwrap(),
+            (Some(0.2), Some(0.25))
+        );
+        assert_eq!(
+            scene.query_pair("mass", green, purple).unwrap(),
+            (Some(0.25), Some(0.2))
+        );
+        assert_eq!(
+            scene.query_pair("mass", purple, purple).unwrap(),
+            (Some(0.2), Some(0.2))
+        );
+        for cube in [purple, green] {
+            assert_eq!(scene.query_pair("mass", cube, pink).unwrap(), (None, None));
+        }
+        assert_eq!(scene.query_single("mass", purple).unwrap(), Some(0.2));
+        assert_eq!(
+            scene.query_single("mass", pink).unwrap(),
+            None,
+            "the annotation says 0.15 kg; the motion cannot tell"
+        );
+        let purple_rope = one(&scene, "purple rope");
+        let green_rope = one(&scene, "green rope");
+        assert_eq!(scene.query_single("tension", purple_rope).unwrap(), None);
+        assert_eq!(scene.query_single("tension", green_rope).unwrap(), None);
+        assert_eq!(
+            scene
+                .query_pair("tension", purple_rope, green_rope)
+                .unwrap(),
+            (None, None)
+        );
+        let error = scene
+            .query_single("mass", one(&scene, "blue pulley"))
+            .unwrap_err();
+        assert_eq!(error.kind(), "misuse");
+        // Inference solves the model at one instant per candidate; it runs no simulation.
+        assert_eq!(scene.work().sim_runs, 0);
+        assert_eq!(scene.work().sim_steps, 0);
+    }
+
+    #[test]
+    fn simulated_masses_need_the_4d_tracks() {
+        let dir = tempfile::tempdir().unwrap();
+        let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
+        fs_err::copy(source.join("outputs.json"), dir.path().join("outputs.json")).unwrap();
+        let video = crate::dataset::VideoFolder {
+            scenario: Scenario::Rope,
+            id: VideoId("0".into()),
+            dir: dir.path().to_path_buf(),
+        };
+        let scene = Scene::open(VideoSpec::new(
+            &video,
+            PerceptionBackend::Annotation,
+            DynamicsBackend::Simulate,
+        ));
+        let purple = one(&scene, "purple cube");
+        let green = one(&scene, "green cube");
+        let error = scene.query_pair("mass", purple, green).unwrap_err();
+        assert_eq!(error.kind(), "unavailable", "{error}");
+        assert!(error.to_string().contains("no outputs4D.json"), "{error}");
     }
 
     #[test]

@@ -1,44 +1,58 @@
-//! Rope outcomes by simulation: the mechanism of a rope video is rebuilt from its annotations
-//! and simulated with `physics::rope`, so motion and rotation answers come from physics instead
-//! of the recorded results (the first piece of `--dynamics simulate`).
+//! Rope outcomes and masses by physics: the mechanism of a rope video is rebuilt from its
+//! annotations and simulated with `physics::rope`, so motion and rotation answers come from
+//! physics instead of the recorded results, and load masses from the tracked motion instead of
+//! `outputMass` (`--dynamics simulate`).
 //!
 //! Input: a [`RopeAnnotation`] (element names and layout positions, rope paths from
 //! `relatedGroupsInRope`, the camera's mirroring), optionally the video's [`FourDData`] (the
-//! tracked rope particles tell on which side a rope passes each pulley), and the load masses of
-//! the run to simulate. Output: per element, the benchmark's motion sign (+1 up past 1.2 units)
-//! and per pulley its rotation sign (+1 clockwise as seen in the video, past 35°).
+//! loads' first-frame centroids; the tracked rope particles, which tell on which side a rope
+//! passes each pulley; the tracked heights that masses are inferred from), and the load masses
+//! of the run to simulate. Output: per element, the benchmark's motion sign (+1 up past 1.2
+//! units) and per pulley its rotation sign (+1 clockwise as seen in the video, past 35°), each
+//! latched at its first crossing as the generator does; or ([`infer_rope_masses`]) per load and
+//! pair of loads what the motion says about their masses.
 //!
-//! Assumptions, each from the one released video: every pulley's rope radius is 1.48 units (a
-//! load hangs 1.48 beside its pulley's centre); a counterfactual run is simulated for the 300
-//! updates (6 s) after its change; movable pulleys weigh [`MOVABLE_PULLEY_KG`] (no released
-//! video has one). A pulled static pulley or fixed point moves at 2 units/s for 3.5 units (7
-//! for fixed points), as the generator's hand does (FORMAT.md §2.3).
+//! The world follows the release (`dataset::rope_world`): static pulleys are 1 kg discs that turn
+//! with the rope, the rope wraps solid and hollow pulleys at their own radii, movable pulleys
+//! weigh 5 g; a factual run lasts the 500 updates after the masses change, a counterfactual run
+//! the 300 after its change. A pulled static pulley or fixed point moves at 2 units/s for 3.5
+//! units (7 for fixed points), as the generator's hand does (FORMAT.md §2.3). Loads and movable
+//! pulleys start at their first 4-D centroid when the video has one: the layout puts end loads
+//! 1.48 beside their pulley's centre, but they hang under its rim, 2.16 beside it.
 
 use indexmap::IndexMap;
 
-use crate::dataset::{FourDData, RopeAnnotation};
+use crate::dataset::{FourDData, RopeAnnotation, parse_rope_object_name, rope_world as world};
+use crate::physics::rope::identify::{
+    BodyVerdict, Identification, IdentifyError, Observation, PairVerdict, Track, Unknown, identify,
+};
 use crate::physics::rope::{
     Body, Drive, DrivenPoint, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError, Turn,
 };
 
-/// Rope radius of every pulley, m (Unity units).
-pub const PULLEY_RADIUS: f64 = 1.48;
-/// Assumed mass of a movable pulley's frame, kg.
-pub const MOVABLE_PULLEY_KG: f64 = 0.1;
-/// Vertical travel that counts as motion (`ResultMotion`), units.
-pub const MOTION_THRESHOLD: f64 = 1.2;
-/// Turn that counts as rotation (`ResultRotation`), degrees.
-pub const ROTATION_THRESHOLD_DEG: f64 = 35.0;
-/// Simulated time after the change, s (300 updates at 50 Hz).
-pub const SIMULATED_SECONDS: f64 = 6.0;
-/// Integration step, s (see `bench physics`).
-pub const STEP_SECONDS: f64 = 1e-3;
-/// Speed of a pulled element, units/s.
-pub const PULL_SPEED: f64 = 2.0;
-/// How far a pulled static pulley moves, units.
-pub const PULL_PULLEY_DISTANCE: f64 = 3.5;
-/// How far a pulled fixed point moves, units.
-pub const PULL_ANCHOR_DISTANCE: f64 = 7.0;
+/// Integration steps per release update (1/60 s): steps of 0.98 ms, just under the 1 ms whose
+/// error `bench physics` shows (under 5 mm a second on its mechanisms).
+pub const SUBSTEPS_PER_UPDATE: u32 = 17;
+
+/// Which of the generator's runs is simulated: it sets how long the run lasts after its change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Run {
+    /// The video's run: [`world::FACTUAL_UPDATES_AFTER_CHANGE`] updates after the masses change.
+    Factual,
+    /// A counterfactual run: [`world::COUNTERFACTUAL_UPDATES_AFTER_CHANGE`] updates after its
+    /// change.
+    Counterfactual,
+}
+
+impl Run {
+    /// Updates simulated after the change.
+    pub fn updates(self) -> u32 {
+        match self {
+            Run::Factual => world::FACTUAL_UPDATES_AFTER_CHANGE,
+            Run::Counterfactual => world::COUNTERFACTUAL_UPDATES_AFTER_CHANGE,
+        }
+    }
+}
 
 /// An element moved by hand during the run: its name and `up` (`true`) or down.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -64,9 +78,18 @@ pub enum RopeSimulationError {
     /// A load has no mass.
     #[error("load `{0}` has no mass")]
     MissingMass(String),
+    /// A pulley's name says neither solid nor hollow.
+    #[error("pulley `{0}`: its name says neither Solid nor Hollow, so its size is unknown")]
+    UnknownPulleySize(String),
+    /// The video has no tracked motion to infer masses from.
+    #[error("no load of this video is tracked in outputs4D.json, so its motion cannot be measured")]
+    NoTracks,
     /// The physics refused.
     #[error(transparent)]
     Simulation(#[from] SimulationError),
+    /// The identification refused.
+    #[error(transparent)]
+    Identification(#[from] IdentifyError),
 }
 
 /// What one simulated run shows.
@@ -103,6 +126,39 @@ fn kind_of(name: &str) -> Option<Kind> {
     }
 }
 
+/// Whether a pulley is solid (little) or hollow (big), from its name.
+fn is_solid(name: &str) -> Result<bool, RopeSimulationError> {
+    match parse_rope_object_name(name)
+        .and_then(|parsed| parsed.pulley_shape)
+        .as_deref()
+    {
+        Some("solid") => Ok(true),
+        Some("hollow") => Ok(false),
+        _ => Err(RopeSimulationError::UnknownPulleySize(name.to_string())),
+    }
+}
+
+/// The mass multiplier of a load: [`world::MOVABLE_PULLEY_LOAD_MULTIPLIER`] when it hangs from a
+/// movable pulley (next to a `Dynamic Pulley` on a rope's path), else 1.
+pub(crate) fn load_multiplier(annotation: &RopeAnnotation, load: &str) -> f64 {
+    let under_movable = annotation
+        .related_groups_in_rope
+        .iter()
+        .flat_map(|group| group.iter())
+        .any(|(rope, elements)| {
+            let path: Vec<&String> = elements.iter().filter(|e| *e != rope).collect();
+            path.windows(2).any(|pair| {
+                (pair[0] == load && pair[1].contains("Dynamic Pulley"))
+                    || (pair[1] == load && pair[0].contains("Dynamic Pulley"))
+            })
+        });
+    if under_movable {
+        world::MOVABLE_PULLEY_LOAD_MULTIPLIER
+    } else {
+        1.0
+    }
+}
+
 /// The mechanism of a rope video and where each element ended up in it.
 struct Built {
     network: Network,
@@ -122,6 +178,16 @@ fn build(
             .get(name)
             .copied()
             .ok_or_else(|| RopeSimulationError::MissingPosition(name.to_string()))
+    };
+    // A moving body starts where the 4-D data first sees it, when it does.
+    let start = |name: &str| match four_d
+        .and_then(|data| data.rigid_bodies.get(name))
+        .and_then(|track| track.poses.first())
+    {
+        Some((centroid, _)) if centroid[0].is_finite() && centroid[1].is_finite() => {
+            Ok([centroid[0], centroid[1]])
+        }
+        _ => position(name),
     };
     let mut built = Built {
         network: Network::default(),
@@ -145,7 +211,7 @@ fn build(
                         Point::Fixed(position(name)?)
                     }
                     Kind::Load => {
-                        let index = body_index(&mut built, name, position(name)?, || {
+                        let index = body_index(&mut built, name, start(name)?, || {
                             masses
                                 .get(name)
                                 .copied()
@@ -157,18 +223,31 @@ fn build(
                         let index = if let Some(index) = built.pulleys.get(name) {
                             *index
                         } else {
-                            let at = position(name)?;
-                            let mount = if kind == Kind::MovablePulley {
-                                let body =
-                                    body_index(&mut built, name, at, || Ok(MOVABLE_PULLEY_KG))?;
-                                Mount::Body(body)
+                            let solid = is_solid(name)?;
+                            let (mount, inertia) = if kind == Kind::MovablePulley {
+                                let body = body_index(&mut built, name, start(name)?, || {
+                                    Ok(world::MOVABLE_PULLEY_KG)
+                                })?;
+                                // The same disc as a static pulley's, at the movable one's mass.
+                                let disc = if solid {
+                                    world::SOLID_PULLEY_RADIUS
+                                } else {
+                                    world::HOLLOW_PULLEY_RADIUS
+                                };
+                                (
+                                    Mount::Body(body),
+                                    0.5 * world::MOVABLE_PULLEY_KG * disc * disc,
+                                )
                             } else {
-                                Mount::Fixed(at)
+                                (
+                                    Mount::Fixed(position(name)?),
+                                    world::static_pulley_inertia(solid),
+                                )
                             };
                             built.network.pulleys.push(Pulley {
                                 name: name.to_string(),
-                                radius: PULLEY_RADIUS,
-                                inertia: 0.0,
+                                radius: world::wrap_radius(solid),
+                                inertia,
                                 friction_torque: 0.0,
                                 mount,
                             });
@@ -301,21 +380,23 @@ impl RopeOutcome {
     }
 }
 
-/// Simulates the rope video with the load masses `masses` (kg) and reads off the benchmark's
-/// motion and rotation signs.
+/// Simulates the rope video's `run` with the load masses `masses` (kg) and reads off the
+/// benchmark's motion and rotation signs, each latched at the first update it crosses its
+/// threshold (the generator's `ResultMotion`/`ResultRotation`).
 pub fn simulate_rope(
     annotation: &RopeAnnotation,
     four_d: Option<&FourDData>,
     masses: &IndexMap<String, f64>,
     pull: Option<&Pull>,
+    run: Run,
 ) -> Result<RopeOutcome, RopeSimulationError> {
     let mut built = build(annotation, four_d, masses)?;
-    let mut moved: Option<(String, f64)> = None;
+    let mut pulled: Option<(String, Drive)> = None;
     if let Some(pull) = pull {
         let agent = pull.agent.as_str();
         let (point, distance) = match (kind_of(agent), built.pulleys.get(agent)) {
             (Some(Kind::StaticPulley), Some(&index)) => {
-                (DrivenPoint::Pulley(index), PULL_PULLEY_DISTANCE)
+                (DrivenPoint::Pulley(index), world::PULL_PULLEY_DISTANCE)
             }
             (Some(Kind::Anchor), _) if built.anchors.iter().any(|a| a == agent) => {
                 let at = annotation
@@ -323,24 +404,27 @@ pub fn simulate_rope(
                     .get(agent)
                     .copied()
                     .ok_or_else(|| RopeSimulationError::MissingPosition(agent.into()))?;
-                (DrivenPoint::Fixed(at), PULL_ANCHOR_DISTANCE)
+                (DrivenPoint::Fixed(at), world::PULL_ANCHOR_DISTANCE)
             }
             _ => return Err(RopeSimulationError::NotPullable(agent.into())),
         };
-        let velocity = if pull.up { PULL_SPEED } else { -PULL_SPEED };
+        let velocity = if pull.up {
+            world::PULL_SPEED
+        } else {
+            -world::PULL_SPEED
+        };
         let drive = Drive {
             point,
             velocity,
             start: 0.0,
             distance,
         };
-        moved = Some((agent.to_string(), drive.displacement(SIMULATED_SECONDS)));
+        pulled = Some((agent.to_string(), drive));
         built.network.drives.push(drive);
     }
     let mechanism = Mechanism::new(built.network)?;
     let start = mechanism.initial_state();
     let mut state = start.clone();
-    mechanism.run(&mut state, SIMULATED_SECONDS, STEP_SECONDS)?;
     let sign = |delta: f64, threshold: f64| -> i8 {
         if delta > threshold {
             1
@@ -350,45 +434,163 @@ pub fn simulate_rope(
             0
         }
     };
-    #[expect(
-        clippy::cast_possible_truncation,
-        clippy::cast_sign_loss,
-        reason = "a small positive step count"
-    )]
-    let steps = (SIMULATED_SECONDS / STEP_SECONDS).round() as u64;
-    let mut outcome = RopeOutcome {
-        steps,
-        ..RopeOutcome::default()
-    };
-    for (name, &index) in &built.bodies {
-        outcome.motion.insert(
-            name.clone(),
-            sign(state.y[index] - start.y[index], MOTION_THRESHOLD),
-        );
-    }
-    for name in built.pulleys.keys().chain(built.anchors.iter()) {
-        let lift = moved
-            .as_ref()
-            .filter(|(agent, _)| agent == name)
-            .map_or(0.0, |(_, lift)| *lift);
-        outcome
-            .motion
-            .entry(name.clone())
-            .or_insert(sign(lift, MOTION_THRESHOLD));
-    }
     // Counter-clockwise is positive in the simulation; the video shows the scene from −z when
     // the camera is mirrored, so its clockwise is the simulation's clockwise then, and the
     // opposite otherwise.
     let mirrored = annotation.camera.as_ref().is_none_or(|c| c.mirrored);
-    let threshold = ROTATION_THRESHOLD_DEG.to_radians();
+    let seen_clockwise = |turned: f64| if mirrored { -turned } else { turned };
+    let rotation_threshold = world::ROTATION_THRESHOLD_DEG.to_radians();
+    let dt = world::UPDATE_SECONDS / f64::from(SUBSTEPS_PER_UPDATE);
+    let mut motion = vec![0_i8; start.y.len()];
+    let mut rotation = vec![0_i8; start.angles.len()];
+    let mut agent_motion = 0_i8;
+    for _ in 0..run.updates() {
+        for _ in 0..SUBSTEPS_PER_UPDATE {
+            mechanism.step(&mut state, dt)?;
+        }
+        // The generator checks its thresholds once per update and keeps the first crossing.
+        for ((latched, y), y0) in motion.iter_mut().zip(&state.y).zip(&start.y) {
+            if *latched == 0 {
+                *latched = sign(y - y0, world::MOTION_THRESHOLD);
+            }
+        }
+        for (latched, angle) in rotation.iter_mut().zip(&state.angles) {
+            if *latched == 0 {
+                *latched = sign(seen_clockwise(*angle), rotation_threshold);
+            }
+        }
+        if let Some((_, drive)) = &pulled
+            && agent_motion == 0
+        {
+            agent_motion = sign(drive.displacement(state.time), world::MOTION_THRESHOLD);
+        }
+    }
+    let mut outcome = RopeOutcome {
+        steps: u64::from(run.updates()) * u64::from(SUBSTEPS_PER_UPDATE),
+        ..RopeOutcome::default()
+    };
+    for (name, &index) in &built.bodies {
+        outcome.motion.insert(name.clone(), motion[index]);
+    }
+    for name in built.pulleys.keys().chain(built.anchors.iter()) {
+        let moved = match &pulled {
+            Some((agent, _)) if agent == name => agent_motion,
+            _ => 0,
+        };
+        outcome.motion.entry(name.clone()).or_insert(moved);
+    }
     for (name, &index) in &built.pulleys {
-        let turned = state.angles[index];
-        let clockwise_as_seen = if mirrored { -turned } else { turned };
-        outcome
-            .rotation
-            .insert(name.clone(), sign(clockwise_as_seen, threshold));
+        outcome.rotation.insert(name.clone(), rotation[index]);
     }
     Ok(outcome)
+}
+
+/// What a rope video's tracked motion says about its load masses: the identification of
+/// `physics::rope::identify`, by load name. Masses are as simulated (kg, loads under a movable
+/// pulley with their multiplier).
+#[derive(Debug, Clone)]
+pub struct RopeMassInference {
+    /// The unknown loads, in the network's order, with their index in the identification.
+    loads: IndexMap<String, usize>,
+    identification: Identification,
+}
+
+impl RopeMassInference {
+    /// The verdict on one load; `None` for a name that is not a load of the mechanism.
+    pub fn load(&self, name: &str) -> Option<&BodyVerdict> {
+        self.loads
+            .get(name)
+            .and_then(|&index| self.identification.bodies.get(index))
+    }
+
+    /// The verdict on two loads, in that order; `None` for a name that is not a load of the
+    /// mechanism, or a load with itself.
+    pub fn pair(&self, first: &str, second: &str) -> Option<PairVerdict> {
+        let (&a, &b) = (self.loads.get(first)?, self.loads.get(second)?);
+        self.identification.pair(a, b)
+    }
+
+    /// The whole identification (fits, rankings), with loads in [`RopeMassInference::loads`]
+    /// order.
+    pub fn identification(&self) -> &Identification {
+        &self.identification
+    }
+
+    /// The loads, in the identification's order.
+    pub fn loads(&self) -> impl Iterator<Item = &str> {
+        self.loads.keys().map(String::as_str)
+    }
+}
+
+/// Infers the load masses of a rope video from its tracked motion (ContPRO's perception →
+/// parameters): the mechanism as at the first 4-D frame, the tracked centroid heights of its
+/// loads and movable pulleys (one frame every [`world::UPDATES_PER_FRAME`] updates), and per load
+/// the release's masses ([`world::LOAD_MASSES_KG`]) times its multiplier. `outputMass` is not
+/// read.
+pub fn infer_rope_masses(
+    annotation: &RopeAnnotation,
+    four_d: &FourDData,
+) -> Result<RopeMassInference, RopeSimulationError> {
+    // Placeholder masses for the build; identification tries every candidate.
+    let placeholders: IndexMap<String, f64> = annotation
+        .related_groups_in_rope
+        .iter()
+        .flat_map(|group| group.values().flatten())
+        .filter(|name| kind_of(name) == Some(Kind::Load))
+        .map(|name| {
+            (
+                name.clone(),
+                world::BASELINE_MASS_KG * load_multiplier(annotation, name),
+            )
+        })
+        .collect();
+    let built = build(annotation, Some(four_d), &placeholders)?;
+    // Tracked heights of the mechanism's bodies (loads, movable pulleys), per body.
+    let tracked: Vec<(usize, Vec<f64>)> = built
+        .bodies
+        .iter()
+        .filter_map(|(name, &body)| {
+            let poses = &four_d.rigid_bodies.get(name)?.poses;
+            (!poses.is_empty()).then(|| (body, poses.iter().map(|(at, _)| at[1]).collect()))
+        })
+        .collect();
+    let frames = tracked
+        .iter()
+        .map(|(_, heights)| heights.len())
+        .min()
+        .ok_or(RopeSimulationError::NoTracks)?;
+    let frame_seconds = world::UPDATE_SECONDS * f64::from(world::UPDATES_PER_FRAME);
+    let observation = Observation {
+        times: (0..frames)
+            .map(|frame| frame as f64 * frame_seconds)
+            .collect(),
+        tracks: tracked
+            .into_iter()
+            .map(|(body, mut heights)| {
+                heights.truncate(frames);
+                Track { body, heights }
+            })
+            .collect(),
+    };
+    let mut loads = IndexMap::new();
+    let mut unknowns = Vec::new();
+    for (name, &body) in &built.bodies {
+        if kind_of(name) == Some(Kind::Load) {
+            let multiplier = load_multiplier(annotation, name);
+            let mut candidates: Vec<f64> = world::LOAD_MASSES_KG
+                .iter()
+                .map(|mass| mass * multiplier)
+                .collect();
+            candidates.sort_by(f64::total_cmp);
+            loads.insert(name.clone(), unknowns.len());
+            unknowns.push(Unknown { body, candidates });
+        }
+    }
+    let identification = identify(&built.network, &observation, &unknowns)?;
+    Ok(RopeMassInference {
+        loads,
+        identification,
+    })
 }
 
 #[cfg(test)]
@@ -430,8 +632,15 @@ mod tests {
     fn the_real_video_is_simulated_as_annotated() {
         let (annotation, four_d) = sample();
         // The factual run, with the video's masses.
-        let outcome =
-            simulate_rope(&annotation, Some(&four_d), &annotation.output_mass_kg, None).unwrap();
+        let outcome = simulate_rope(
+            &annotation,
+            Some(&four_d),
+            &annotation.output_mass_kg,
+            None,
+            Run::Factual,
+        )
+        .unwrap();
+        assert_eq!(outcome.steps, 500 * u64::from(SUBSTEPS_PER_UPDATE));
         assert_matches(
             &outcome,
             &annotation.result_motion,
@@ -469,8 +678,14 @@ mod tests {
                     }),
                     RopeChange::Other { mode } => panic!("unexpected mode {mode}"),
                 };
-                let outcome =
-                    simulate_rope(&annotation, Some(&four_d), &masses, pull.as_ref()).unwrap();
+                let outcome = simulate_rope(
+                    &annotation,
+                    Some(&four_d),
+                    &masses,
+                    pull.as_ref(),
+                    Run::Counterfactual,
+                )
+                .unwrap();
                 assert_matches(
                     &outcome,
                     &entry.motion,
@@ -484,5 +699,103 @@ mod tests {
             }
         }
         assert_eq!(checked, 10, "five records, two entries each");
+    }
+
+    /// The tracked height change of `name` from the first to the last 4-D frame.
+    fn tracked_rise(four_d: &FourDData, name: &str) -> f64 {
+        let poses = &four_d.rigid_bodies[name].poses;
+        poses[poses.len() - 1].0[1] - poses[0].0[1]
+    }
+
+    #[test]
+    fn the_factual_masses_move_the_cubes_as_tracked() {
+        // From rest with the video's masses (0.2 kg purple against 0.25 kg green over two solid
+        // and one hollow 1 kg disc pulley), the cubes move as the 4-D data tracks them over the
+        // video's 149 frame intervals (298 updates, 4.97 s): purple up 3.467, green down 3.459.
+        // Ideal massless pulleys would move them about 13.6.
+        let (annotation, four_d) = sample();
+        let built = build(&annotation, Some(&four_d), &annotation.output_mass_kg).unwrap();
+        let purple = built.bodies["Purple Cube"];
+        let green = built.bodies["Green Cube"];
+        let mechanism = Mechanism::new(built.network).unwrap();
+        let mut state = mechanism.initial_state();
+        let dt = world::UPDATE_SECONDS / f64::from(SUBSTEPS_PER_UPDATE);
+        for _ in 0..149 * world::UPDATES_PER_FRAME * SUBSTEPS_PER_UPDATE {
+            mechanism.step(&mut state, dt).unwrap();
+        }
+        let start = mechanism.initial_state();
+        for (name, body) in [("Purple Cube", purple), ("Green Cube", green)] {
+            let simulated = state.y[body] - start.y[body];
+            let tracked = tracked_rise(&four_d, name);
+            assert!(
+                (simulated - tracked).abs() < 0.05 * tracked.abs(),
+                "{name}: simulated {simulated:.3}, tracked {tracked:.3}"
+            );
+        }
+        // Atwood with I/R² per pulley: a = g·0.05/(0.45 + 2·I_s/R_s² + I_h/R_h²).
+        let extra = 2.0 * world::static_pulley_inertia(true) / world::SOLID_WRAP_RADIUS.powi(2)
+            + world::static_pulley_inertia(false) / world::HOLLOW_WRAP_RADIUS.powi(2);
+        let t = 298.0 * world::UPDATE_SECONDS;
+        let closed_form = 0.5 * 9.81 * 0.05 / (0.45 + extra) * t * t;
+        let simulated = state.y[purple] - start.y[purple];
+        assert!(
+            (simulated - closed_form).abs() < 0.02 * closed_form,
+            "simulated {simulated:.3}, closed form {closed_form:.3}"
+        );
+    }
+
+    #[test]
+    fn the_real_videos_masses_are_inferred_from_the_tracked_motion() {
+        use crate::physics::rope::identify::{RatioClass, Undecidable, Window};
+        use std::cmp::Ordering;
+        let (mut annotation, four_d) = sample();
+        // The inference must not read the recorded masses.
+        annotation.output_mass_kg.clear();
+        let inference = infer_rope_masses(&annotation, &four_d).unwrap();
+        assert_eq!(
+            inference.loads().collect::<Vec<_>>(),
+            ["Purple Cube", "Green Cube", "Pink Sphere"]
+        );
+        let identification = inference.identification();
+        // The cubes follow one parabola each over all 150 frames.
+        let group = &identification.groups[0];
+        assert_eq!(group.window, Window::Clean { frames: 150 });
+        for fit in &group.fits {
+            assert!(
+                (fit.acceleration.abs() - 0.27).abs() < 0.01,
+                "tracked acceleration {fit:?}"
+            );
+        }
+        // Purple 0.2 kg against green 0.25 kg: "less than", at the recorded masses.
+        match inference.pair("Purple Cube", "Green Cube") {
+            Some(PairVerdict::Decided { masses, class }) => {
+                assert!(
+                    (masses[0] - 0.2).abs() < 1e-12 && (masses[1] - 0.25).abs() < 1e-12,
+                    "{masses:?}"
+                );
+                assert_eq!(class, RatioClass::of(0.2, 0.25));
+                assert_eq!(class.to_other, Ordering::Less);
+            }
+            other => panic!("{other:?}: {identification:#?}"),
+        }
+        assert_eq!(group.ranking[0].masses, vec![0.2, 0.25]);
+        // The pink sphere hangs alone from a ceiling point: no rope couples it to the cubes,
+        // and its mass changes nothing it does.
+        for cube in ["Purple Cube", "Green Cube"] {
+            assert_eq!(
+                inference.pair(cube, "Pink Sphere"),
+                Some(PairVerdict::Undecidable(Undecidable::DifferentMechanisms))
+            );
+        }
+        assert_eq!(
+            inference.load("Pink Sphere"),
+            Some(&BodyVerdict::Undetermined(Undecidable::MassHidden {
+                body: "Pink Sphere".into()
+            }))
+        );
+        assert_eq!(
+            inference.load("Purple Cube"),
+            Some(&BodyVerdict::Determined { mass: 0.2 })
+        );
     }
 }

@@ -41,7 +41,7 @@ const MIN_DISTANCE_BETWEEN_GROUPS: f64 = 4.0;
 const RANDOM_LAYOUT_P: f64 = 0.5;
 const REARRANGED_GROUP_GAP: f64 = 7.0;
 /// The factual masses a load draws from, kg (before its multiplier).
-pub const LOAD_MASSES_KG: [f64; 3] = [0.15, 0.25, 0.20];
+pub const LOAD_MASSES_KG: [f64; 3] = world::LOAD_MASSES_KG;
 
 /// Slot states and element types (`metaSampling[].type`).
 pub mod kind {
