@@ -6,6 +6,7 @@
 //! internal errors.
 
 mod bench;
+mod bench_inference;
 mod bench_physics;
 mod error;
 mod evaluate;
@@ -53,6 +54,7 @@ pub fn execute(request: Request) -> ExitCode {
             bench_physics::bench_physics(&settings.scenario, &steps, settings.svg.as_deref())
         }
         Request::Render(settings) => render::render(&settings),
+        Request::BenchInference(data) => bench_inference::bench_inference(&data),
         Request::Generate(settings) => generate::generate(&settings),
     };
     match result {

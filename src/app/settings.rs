@@ -34,6 +34,8 @@ pub enum Request {
     Render(RenderSettings),
     /// `generate`.
     Generate(GenerateSettings),
+    /// `bench inference` over a data root.
+    BenchInference(PathBuf),
 }
 
 /// Which sampled split(s) a run evaluates.

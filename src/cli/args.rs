@@ -450,6 +450,13 @@ pub enum BenchCommand {
         #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
         steps: Option<Vec<f64>>,
     },
+    /// Mass relations inferred from tracked motion (what `--dynamics simulate` answers mass and
+    /// tension questions with) against the videos' masses, pair by pair, as JSON.
+    Inference {
+        /// Data root holding `pulley_group/<video_id>/`.
+        #[arg(long, value_name = "DIR")]
+        data: PathBuf,
+    },
     /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
     /// mock server with a fixed latency.
     Llm {
@@ -592,6 +599,7 @@ impl Cli {
                 svg,
                 steps,
             }),
+            Some(Command::Bench(BenchCommand::Inference { data })) => Request::BenchInference(data),
             Some(Command::Bench(BenchCommand::Llm {
                 latency_ms,
                 jobs,

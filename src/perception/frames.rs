@@ -472,6 +472,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_missing_ffmpeg_is_one_clear_error() {
+        let error = spawn(
+            "ffmpeg",
+            Path::new("video.mp4"),
+            &mut Command::new("/nonexistent/contphy/ffmpeg"),
+        )
+        .unwrap_err();
+        assert!(matches!(error, FramesError::FfmpegMissing { .. }));
+        assert_eq!(
+            error.to_string(),
+            "`ffmpeg` is not installed, so `video.mp4` cannot be decoded; install ffmpeg (Debian: `apt-get install ffmpeg`) or give a folder of PNG frames"
+        );
+    }
+
+    #[test]
     fn select_expressions_merge_runs() {
         assert_eq!(select_expression(&[3]), "eq(n\\,3)");
         assert_eq!(

@@ -12,6 +12,8 @@ mod api_spec;
 mod architecture;
 mod cli;
 mod exec;
+mod frames;
+mod generate;
 mod llm;
 mod llm_run;
 mod pipeline;

@@ -1,0 +1,246 @@
+//! `generate`: synthetic rope videos in the release format. They load through the same loader
+//! as the real video, their boxes and masks agree with their pixels and with the 4-D data, the
+//! same seed gives the same bytes whatever the job count, an interrupted generation resumes,
+//! and bad requests fail with one line.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Command;
+
+use contphy_eval::dataset::{DataRoot, FourDData, RopeAnnotation, Scenario};
+use contphy_eval::perception::camera::CameraModel;
+use contphy_eval::perception::frames::FrameSource;
+use contphy_eval::synth::palette::instance_color;
+
+use crate::support::{contphy, root, stderr, stdout};
+
+fn generate(out: &Path, videos: &str, seed: &str, jobs: &str) -> std::process::Output {
+    contphy(
+        &root(),
+        &[
+            "generate",
+            "--videos",
+            videos,
+            "--seed",
+            seed,
+            "--frames",
+            "png",
+            "--resolution",
+            "192x108",
+            "--jobs",
+            jobs,
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    )
+}
+
+/// The boxes of one capture: instance id → (x0, y0, width, height).
+fn boxes(capture: &serde_json::Value) -> Vec<(u32, [f64; 4])> {
+    let annotations = capture[0]["annotations"].as_array().unwrap();
+    let boxes = annotations
+        .iter()
+        .find(|a| a["@type"] == "type.unity.com/unity.solo.BoundingBox2DAnnotation")
+        .unwrap();
+    boxes["values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| {
+            let id = u32::try_from(v["instanceId"].as_u64().unwrap()).unwrap();
+            let origin = v["origin"].as_array().unwrap();
+            let size = v["dimension"].as_array().unwrap();
+            (
+                id,
+                [
+                    origin[0].as_f64().unwrap(),
+                    origin[1].as_f64().unwrap(),
+                    size[0].as_f64().unwrap(),
+                    size[1].as_f64().unwrap(),
+                ],
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn generated_videos_load_and_their_boxes_masks_and_tracks_agree() {
+    let out = tempfile::tempdir().unwrap();
+    let output = generate(out.path(), "2", "3", "2");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.starts_with("generated 2 rope videos"), "{text}");
+    assert!(text.contains("| rope_counterfactual2 |"), "{text}");
+    let data = DataRoot::open(out.path()).unwrap();
+    let listing = data.list_videos(Scenario::Rope).unwrap();
+    assert_eq!(listing.valid.len(), 2);
+    for file in [
+        "pulley_group/0.json",
+        "pulley_group/1.json",
+        "pulley_group_train.json",
+        "pulley_group_test.json",
+        "generate.json",
+    ] {
+        assert!(out.path().join(file).is_file(), "{file}");
+    }
+    let mut boxes_checked = 0;
+    for video in &listing.valid {
+        let annotation = RopeAnnotation::load(&video.outputs_json()).unwrap();
+        let four_d = FourDData::load(&video.outputs_4d_json()).unwrap();
+        assert_eq!(annotation.frame_count, 150);
+        assert_eq!(four_d.frame_count(), 150);
+        assert!(!annotation.counterfactuals.is_empty());
+        let camera_record = annotation.camera.clone().unwrap();
+        let camera = CameraModel::from_unity_euler(
+            camera_record.position,
+            camera_record.rotation_deg,
+            camera_record.vertical_fov_deg,
+            192,
+            108,
+        );
+        let raw: serde_json::Value =
+            serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
+        let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
+        let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
+        let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
+        let frames = [0_usize, 75, 149];
+        let images = segmentation.read(&frames).unwrap();
+        for (frame, image) in frames.iter().zip(&images) {
+            let capture = &per_frame[(frame + 1).to_string()];
+            for (id, [x0, y0, width, height]) in boxes(capture) {
+                // The mask's pixels span exactly the box.
+                let color = &instance_color(id)[..3];
+                let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
+                let mut count = 0;
+                for y in 0..image.height {
+                    for x in 0..image.width {
+                        if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
+                            count += 1;
+                            low_x = low_x.min(x);
+                            low_y = low_y.min(y);
+                            high_x = high_x.max(x);
+                            high_y = high_y.max(y);
+                        }
+                    }
+                }
+                let name = names[id.to_string()].as_str().unwrap();
+                assert!(count > 0, "{name} has a box but no mask in frame {frame}");
+                let mask_box = [
+                    f64::from(low_x),
+                    f64::from(low_y),
+                    f64::from(high_x - low_x + 1),
+                    f64::from(high_y - low_y + 1),
+                ];
+                // Whole pixels on both sides: equal means equal.
+                assert!(
+                    mask_box
+                        .iter()
+                        .zip([x0, y0, width, height])
+                        .all(|(a, b)| (a - b).abs() < 1e-9),
+                    "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
+                    [x0, y0, width, height]
+                );
+                // A load's tracked centroid projects inside its box.
+                if let Some(track) = four_d.rigid_bodies.get(name)
+                    && (name.ends_with("Cube") || name.ends_with("Sphere"))
+                {
+                    let p = camera.project(track.poses[*frame].0).unwrap();
+                    assert!(
+                        p.x >= x0 && p.x <= x0 + width && p.y >= y0 && p.y <= y0 + height,
+                        "{name} frame {frame}: centroid ({}, {}) outside its box",
+                        p.x,
+                        p.y
+                    );
+                }
+                boxes_checked += 1;
+            }
+        }
+    }
+    assert!(boxes_checked > 30, "{boxes_checked}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_bytes_and_an_interrupted_generation_resumes() {
+    let one = tempfile::tempdir().unwrap();
+    let two = tempfile::tempdir().unwrap();
+    assert!(generate(one.path(), "1", "5", "1").status.success());
+    assert!(generate(two.path(), "2", "5", "2").status.success());
+    for file in [
+        "outputs.json",
+        "outputs4D.json",
+        "frames/output_Full_ori/frame_00000.png",
+        "frames/output_Full_seg/frame_00149.png",
+    ] {
+        let a = fs_err::read(one.path().join("pulley_group/0").join(file)).unwrap();
+        let b = fs_err::read(two.path().join("pulley_group/0").join(file)).unwrap();
+        assert!(a == b, "{file} differs between runs");
+    }
+    // Folders already written are kept: a second run only makes the questions again.
+    let again = generate(two.path(), "2", "5", "2");
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert!(
+        stdout(&again).starts_with("generated 2 rope videos (2 kept from an earlier run)"),
+        "{}",
+        stdout(&again)
+    );
+    assert!(
+        !two.path().join("pulley_group/.partial-0").exists(),
+        "no half-written folder is left"
+    );
+}
+
+#[test]
+fn bad_generate_requests_fail_with_one_line() {
+    let out = tempfile::tempdir().unwrap();
+    let target = out.path().join("data");
+    let target = target.to_str().unwrap();
+    let cases: [(&str, Vec<&str>, i32); 5] = [
+        ("no_videos", vec!["--videos", "0"], 1),
+        (
+            "scenario_without_generator",
+            vec!["--videos", "1", "--scenario", "fluid"],
+            1,
+        ),
+        (
+            "tiny_resolution",
+            vec!["--videos", "1", "--resolution", "12x8"],
+            1,
+        ),
+        (
+            "mp4_without_ffmpeg",
+            vec!["--videos", "1", "--frames", "mp4"],
+            1,
+        ),
+        (
+            "malformed_resolution",
+            vec!["--videos", "1", "--resolution", "wide"],
+            2,
+        ),
+    ];
+    let mut transcript = String::new();
+    for (name, args, code) in cases {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_contphy-eval"));
+        command
+            .arg("generate")
+            .args(&args)
+            .args(["--out", target, "--quiet"])
+            .env("NO_COLOR", "1")
+            // No ffmpeg here, whatever the machine has.
+            .env("CONTPHY_FFMPEG_DIR", out.path().join("no-ffmpeg"));
+        let output = command.output().unwrap();
+        assert_eq!(
+            output.status.code(),
+            Some(code),
+            "{name}: {}",
+            stderr(&output)
+        );
+        let message = stderr(&output).replace(target, "[OUT]");
+        assert!(!message.contains("panicked"), "{name}: {message}");
+        if code == 1 {
+            assert_eq!(message.lines().count(), 1, "{name}: {message}");
+        }
+        let _ = writeln!(transcript, "## {name}\n{message}");
+    }
+    insta::assert_snapshot!("generate_errors", transcript);
+}
