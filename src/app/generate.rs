@@ -67,6 +67,35 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         width,
         height,
     };
+    // The settings that decide a video's content: a data root holds videos of one setting only,
+    // so a resumed generation never mixes two.
+    let identity = json!({
+        "scenario": settings.scenario.name(),
+        "seed": settings.seed,
+        "frames": format!("{frames:?}").to_lowercase(),
+        "resolution": [width, height],
+    });
+    let manifest_path = settings.out.join("generate.json");
+    if manifest_path.is_file() {
+        let previous: serde_json::Value =
+            serde_json::from_slice(&fs_err::read(&manifest_path).user()?).map_err(|error| {
+                user_error(format!(
+                    "`{}` is not a generate manifest ({error}); remove it or choose another --out",
+                    manifest_path.display()
+                ))
+            })?;
+        if previous.get("settings") != Some(&identity) {
+            return Err(user_error(format!(
+                "`{}` holds videos generated with {}; generate there with the same --scenario, --seed, --frames and --resolution, or choose another --out",
+                settings.out.display(),
+                previous.get("settings").unwrap_or(&serde_json::Value::Null)
+            )));
+        }
+    } else {
+        let text = serde_json::to_vec_pretty(&json!({"settings": identity, "complete": false}))
+            .internal()?;
+        write_atomic(&manifest_path, &text).user()?;
+    }
     let progress = Progress::labelled(
         u64::try_from(settings.videos).unwrap_or(u64::MAX),
         "videos",
@@ -82,19 +111,16 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         .sum();
     let reused = report.videos.iter().filter(|v| v.reused).count();
     let manifest = json!({
+        "settings": identity,
+        "complete": true,
         "tool": format!("contphy-eval {}", env!("CARGO_PKG_VERSION")),
-        "scenario": settings.scenario.name(),
         "videos": settings.videos,
-        "seed": settings.seed,
         "jobs": jobs,
-        "frames": format!("{frames:?}").to_lowercase(),
-        "resolution": [width, height],
         "wall_ms": report.wall_ms,
         "bytes": bytes,
         "rejected_trials": rejected,
         "per_video": report.videos,
     });
-    let manifest_path = settings.out.join("generate.json");
     let text = serde_json::to_vec_pretty(&manifest).internal()?;
     write_atomic(&manifest_path, &text).internal()?;
     let mut stdout = std::io::stdout().lock();

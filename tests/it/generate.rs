@@ -188,6 +188,15 @@ fn the_same_seed_gives_the_same_bytes_and_an_interrupted_generation_resumes() {
         !two.path().join("pulley_group/.partial-0").exists(),
         "no half-written folder is left"
     );
+    // Another seed into the same data root would mix two datasets: refused.
+    let mixed = generate(two.path(), "3", "6", "2");
+    assert_eq!(mixed.status.code(), Some(1));
+    assert!(
+        stderr(&mixed).contains("holds videos generated with"),
+        "{}",
+        stderr(&mixed)
+    );
+    assert!(!two.path().join("pulley_group/2").exists());
 }
 
 #[test]

@@ -22,7 +22,8 @@ use crate::physics::rope::{
 
 /// Integration steps per release update (the truth runs at 1/1200 s, half the inference step).
 pub const SUBSTEPS_PER_UPDATE: u32 = 20;
-/// Bearing friction of every static pulley, N·m: a little, so nearly balanced systems can stick.
+/// Bearing friction of every static pulley, N·m: none, because the real video's cubes move as
+/// frictionless 1 kg disc pulleys predict (within 1%); the simulator supports it.
 pub const BEARING_FRICTION_NM: f64 = 0.0;
 /// Before the change, a movable pulley drifting further than this makes the trial invalid, units.
 const STABILITY_DRIFT: f64 = 0.9;
