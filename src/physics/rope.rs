@@ -53,6 +53,10 @@ pub mod identify;
 /// Gravitational acceleration, m/s².
 pub const GRAVITY: f64 = 9.81;
 
+/// At the start, a pass wrapped more than a full turn less this (rad) is read as the rope
+/// leaving the pulley (bent slightly the other way), not as wrapped nearly all the way round.
+const LEAVING_ANGLE: f64 = 0.5;
+
 /// Rope length (m) by which a rope counts as taut in the instantaneous solve.
 const TAUT_TOLERANCE: f64 = 1e-9;
 
@@ -308,6 +312,9 @@ pub struct Mechanism {
     /// Per rope, per path point: how the path turns round it (+1 counter-clockwise, −1
     /// clockwise, 0 for ends and straight vertical passes).
     turns: Vec<Vec<f64>>,
+    /// Per rope, per path point: the wrap angle at the start (rad, 0 for ends), the branch every
+    /// later wrap angle is read on (see [`Mechanism::wrap_angle`]).
+    wraps: Vec<Vec<f64>>,
     /// Per rope, the bodies that move it.
     rope_bodies: Vec<Vec<usize>>,
     /// The time driven points are placed at, s.
@@ -371,6 +378,7 @@ impl Mechanism {
             rest_lengths: Vec::new(),
             passes: Vec::new(),
             turns: Vec::new(),
+            wraps: Vec::new(),
             rope_bodies: Vec::new(),
             now: std::cell::Cell::new(0.0),
         };
@@ -444,6 +452,20 @@ impl Mechanism {
                     });
                 }
             }
+            // The start's wrap angles: a pass the path bends slightly the other way round (or
+            // that rounding puts just under a full turn) is a rope leaving the pulley, not one
+            // wrapped all the way round it.
+            let wraps: Vec<f64> = (0..rope.path.len())
+                .map(|position| {
+                    let raw = mechanism.raw_wrap(rope_index, position, &contacts, &start);
+                    if raw > std::f64::consts::TAU - LEAVING_ANGLE {
+                        0.0
+                    } else {
+                        raw
+                    }
+                })
+                .collect();
+            mechanism.wraps.push(wraps);
         }
         for rope_index in 0..mechanism.network.ropes.len() {
             rest_lengths.push(mechanism.rope_length(rope_index, &start));
@@ -504,8 +526,7 @@ impl Mechanism {
                     let radius = self.network.pulleys[index].radius;
                     let arrive = contacts[position - 1].1;
                     let from_angle = (arrive[1] - centre[1]).atan2(arrive[0] - centre[0]);
-                    let to_angle = (from[1] - centre[1]).atan2(from[0] - centre[0]);
-                    let sweep = (turn * (to_angle - from_angle)).rem_euclid(std::f64::consts::TAU);
+                    let sweep = self.wrap_angle(rope, position, &contacts, &state.y);
                     let step = arc_step.max(1e-3);
                     #[expect(
                         clippy::cast_possible_truncation,
@@ -625,9 +646,10 @@ impl Mechanism {
         Ok(())
     }
 
-    /// The rope wrapped round path point `position` (m): radius × the angle from where the rope
-    /// arrives to where it leaves, in the turn's direction.
-    fn arc(
+    /// The angle (rad, in `[0, 2π)`) from where the rope arrives at path point `position` to
+    /// where it leaves, in the turn's direction, as the geometry gives it; 0 for ends and
+    /// straight passes.
+    fn raw_wrap(
         &self,
         rope: usize,
         position: usize,
@@ -636,10 +658,11 @@ impl Mechanism {
     ) -> f64 {
         let path = &self.network.ropes[rope].path;
         let turn = self.turns[rope][position];
-        let Point::Pulley(index) = path[position] else {
-            return 0.0;
-        };
-        if turn == 0.0 || position == 0 || position + 1 >= path.len() {
+        if !matches!(path[position], Point::Pulley(_))
+            || turn == 0.0
+            || position == 0
+            || position + 1 >= path.len()
+        {
             return 0.0;
         }
         let centre = self.point_position(path[position], y);
@@ -647,8 +670,43 @@ impl Mechanism {
         let leave = contacts[position].0;
         let from = (arrive[1] - centre[1]).atan2(arrive[0] - centre[0]);
         let to = (leave[1] - centre[1]).atan2(leave[0] - centre[0]);
-        let angle = (turn * (to - from)).rem_euclid(std::f64::consts::TAU);
-        self.network.pulleys[index].radius * angle
+        (turn * (to - from)).rem_euclid(std::f64::consts::TAU)
+    }
+
+    /// The wrap angle round path point `position` (rad): the geometric angle read on the branch
+    /// nearest the start's wrap, so it changes continuously as bodies move (a rope wrapped
+    /// 300° stays 300°, a straight pass stays near 0 instead of jumping to a full turn), and
+    /// never negative: a rope bending the other way at a pass has left the pulley.
+    fn wrap_angle(
+        &self,
+        rope: usize,
+        position: usize,
+        contacts: &[([f64; 2], [f64; 2])],
+        y: &[f64],
+    ) -> f64 {
+        let raw = self.raw_wrap(rope, position, contacts, y);
+        let reference = self
+            .wraps
+            .get(rope)
+            .and_then(|w| w.get(position))
+            .copied()
+            .unwrap_or(raw);
+        let turns = ((reference - raw) / std::f64::consts::TAU).round();
+        (raw + std::f64::consts::TAU * turns).max(0.0)
+    }
+
+    /// The rope wrapped round path point `position` (m): radius × its wrap angle.
+    fn arc(
+        &self,
+        rope: usize,
+        position: usize,
+        contacts: &[([f64; 2], [f64; 2])],
+        y: &[f64],
+    ) -> f64 {
+        let Point::Pulley(index) = self.network.ropes[rope].path[position] else {
+            return 0.0;
+        };
+        self.network.pulleys[index].radius * self.wrap_angle(rope, position, contacts, y)
     }
 
     /// How close the two ends of a segment may come (m): a pulley's radius, a body's clearance.

@@ -337,6 +337,14 @@ fn observed_turns(
         let Some(centre) = centre_of(point) else {
             continue;
         };
+        let radius = match *point {
+            Point::Pulley(index) => network.pulleys.get(index).map(|p| p.radius),
+            _ => None,
+        };
+        if let Some(turn) = radius.and_then(|r| winding(particles, centre, r, forward)) {
+            turns.push((position, turn));
+            continue;
+        }
         let nearest = (1..particles.len() - 1)
             .min_by(|&i, &j| {
                 distance(particles[i], centre).total_cmp(&distance(particles[j], centre))
@@ -363,6 +371,49 @@ fn observed_turns(
         }
     }
     turns
+}
+
+/// Half-width of the band round a pulley's wrap radius in which tracked particles count as
+/// lying on its rim, units (the rope's radius is 0.2; particles sit on its centre line).
+const RIM_BAND: f64 = 0.45;
+
+/// The turn round a pulley from the tracked particles that lie on its rim: the longest run of
+/// consecutive particles in the rim band, and the sign of the angle it sweeps round the centre in
+/// the path's direction. A rope wrapped almost all the way round, or crossing itself near the
+/// pulley, still sweeps its wrap in one run; `None` when no run of two particles lies on the rim
+/// (a grazing pass), for the nearest-particle test to decide.
+fn winding(particles: &[[f64; 3]], centre: [f64; 2], radius: f64, forward: bool) -> Option<Turn> {
+    let on_rim =
+        |p: &[f64; 3]| ((p[0] - centre[0]).hypot(p[1] - centre[1]) - radius).abs() < RIM_BAND;
+    let angle = |p: &[f64; 3]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+    let mut best = 0.0_f64;
+    let mut run: f64 = 0.0;
+    for pair in particles.windows(2) {
+        if on_rim(&pair[0]) && on_rim(&pair[1]) {
+            let mut step = angle(&pair[1]) - angle(&pair[0]);
+            // The short way round: consecutive particles are 0.5 apart on a rim of radius ≥ 1.6.
+            if step > std::f64::consts::PI {
+                step -= std::f64::consts::TAU;
+            } else if step < -std::f64::consts::PI {
+                step += std::f64::consts::TAU;
+            }
+            run += step;
+            if run.abs() > best.abs() {
+                best = run;
+            }
+        } else {
+            run = 0.0;
+        }
+    }
+    if best.abs() < 0.05 {
+        return None;
+    }
+    let counter_clockwise = (best > 0.0) == forward;
+    Some(if counter_clockwise {
+        Turn::CounterClockwise
+    } else {
+        Turn::Clockwise
+    })
 }
 
 impl RopeOutcome {

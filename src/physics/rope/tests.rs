@@ -969,3 +969,60 @@ fn a_driven_pulley_with_a_bearing_is_the_atwood_machine_in_its_frame() {
     assert!(state.angles[0] == 0.0, "{}", state.angles[0]);
     close(state.friction_torques[0], threshold, "holding torque");
 }
+
+/// A rope running straight down past a pulley's rim: an Atwood machine whose left load hangs
+/// from a second pulley below the first, on the same vertical line, so the rope only grazes the
+/// lower pulley. Its wrap angle is 0 (or a hair either side of it), never a full turn, and stays
+/// continuous as the load moves: the rope is as long as its straight pieces and arc, and the
+/// loads move as the plain Atwood machine predicts.
+#[test]
+fn a_rope_grazing_a_pulley_is_not_wrapped_all_the_way_round() {
+    for shift in [0.0, 1e-9, -1e-9, 1e-4] {
+        let network = Network {
+            bodies: vec![body("A", 0.2, -R + shift, -6.0), body("B", 0.25, R, -3.0)],
+            pulleys: vec![
+                static_pulley("Top", 0.0, 0.0, 0.0),
+                static_pulley("Grazed", 0.0, -3.0, 0.0),
+            ],
+            ropes: vec![rope(
+                "rope",
+                vec![
+                    Point::Body(0),
+                    Point::Pulley(1),
+                    Point::Pulley(0),
+                    Point::Body(1),
+                ],
+            )],
+            // Up the left side of the lower pulley (it is on the path's right), over the top
+            // one clockwise.
+            turns: vec![(0, 1, Turn::Clockwise), (0, 2, Turn::Clockwise)],
+            ..Network::default()
+        };
+        let mechanism = Mechanism::new(network).unwrap();
+        // 6 up to the top pulley's rim, half its circumference, 3 down.
+        close(
+            mechanism.rest_lengths()[0],
+            6.0 + std::f64::consts::PI * R + 3.0,
+            &format!("rest length, shift {shift}"),
+        );
+        let mut state = mechanism.initial_state();
+        mechanism.run(&mut state, 0.5, 1e-3).unwrap();
+        let polyline = mechanism.rope_polyline(0, &state, 0.05);
+        let length: f64 = polyline
+            .windows(2)
+            .map(|w| (w[0][0] - w[1][0]).hypot(w[0][1] - w[1][1]))
+            .sum();
+        assert!(
+            (length - mechanism.rest_lengths()[0]).abs() < 1e-3,
+            "shift {shift}: the drawn rope is {length} long"
+        );
+        // B (heavier) goes down as an Atwood machine's: a = g·0.05/0.45.
+        let a = GRAVITY * 0.05 / 0.45;
+        let expected = -3.0 - 0.5 * a * 0.25;
+        assert!(
+            (state.y[1] - expected).abs() < 5e-3,
+            "shift {shift}: B at {}, want {expected}",
+            state.y[1]
+        );
+    }
+}

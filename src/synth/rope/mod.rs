@@ -79,7 +79,8 @@ enum Trial {
 }
 
 fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<Trial, String> {
-    let (layout, layouts_rejected) = sample_layout(rng);
+    let (layout, layouts_rejected) =
+        sample_layout(rng).ok_or_else(|| "no layout passed the release's checks".to_string())?;
     let camera_sample = sample_camera(rng);
     let model = build_truth(&layout).map_err(|e| e.to_string())?;
     let factual = run(

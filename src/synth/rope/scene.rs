@@ -7,7 +7,6 @@
 //! frame, a [`CameraModel`], labels, and the 4-D JSON. Units: world units; angles in degrees in
 //! the JSON as the release writes them.
 
-use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -708,19 +707,4 @@ fn round(v: &[f64; 3]) -> [f64; 3] {
         let r = (c * 1e6).round() / 1e6;
         if r == 0.0 { 0.0 } else { r }
     })
-}
-
-/// Per name, the first-frame position of each object (for tests and checks).
-pub fn first_positions(model: &TruthModel, frame: &FrameState) -> BTreeMap<String, [f64; 2]> {
-    let mut positions = BTreeMap::new();
-    for (name, &body) in &model.bodies {
-        positions.insert(
-            name.clone(),
-            [model.network.bodies[body].position[0], frame.state.y[body]],
-        );
-    }
-    for (name, &pulley) in &model.pulleys {
-        positions.insert(name.clone(), frame.pulley_centres[pulley]);
-    }
-    positions
 }

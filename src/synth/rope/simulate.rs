@@ -566,7 +566,7 @@ mod tests {
         let mut rng = seeded_rng(3);
         let mut checked = 0;
         for _ in 0..10 {
-            let (layout, _) = sample_layout(&mut rng);
+            let (layout, _) = sample_layout(&mut rng).unwrap();
             let model = build_truth(&layout).unwrap();
             let masses: Vec<f64> = layout.masses_kg.clone();
             let result = run(&model, &Change::Masses(masses), 60, 3, true, true);
