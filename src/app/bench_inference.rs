@@ -2,6 +2,11 @@
 //! `--dynamics simulate` answers mass and tension questions with) match the masses the videos
 //! were made with, pair by pair, as JSON on stdout.
 //!
+//! With `--noise σ,…` the tracked centroid heights are perturbed by seeded Gaussian noise of
+//! standard deviation σ (units) before inference, one sweep per level, to show how the decision
+//! rule trades coverage for accuracy as tracking gets worse (the release's own tracks are exact
+//! simulator states; a detector's are not).
+//!
 //! Every ordered pair of loads of a video is scored. A pair in one related group is *decided*
 //! or *undecidable* (with the reason); a decided pair is *correct* when its ratio class (the
 //! first mass against the second, twice it and half of it, as the questions ask) equals the
@@ -14,12 +19,14 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use indexmap::IndexMap;
-use serde_json::json;
+use rand::Rng;
+use serde_json::{Value, json};
 
 use super::error::{AppError, Classify as _, user_error};
 use crate::dataset::{DataRoot, FourDData, RopeAnnotation, Scenario};
 use crate::physics::rope::identify::{PairVerdict, RatioClass, Undecidable};
 use crate::scene_api::rope_sim::infer_rope_masses;
+use crate::util::{derive_seed, seeded_rng};
 
 /// A short key for an undecidable reason.
 fn reason_key(reason: &Undecidable) -> &'static str {
@@ -47,8 +54,22 @@ fn describe(class: RatioClass) -> String {
     )
 }
 
-pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppError> {
-    let started = Instant::now();
+/// A standard normal draw (Box–Muller).
+fn normal(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
+    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+pub(crate) fn bench_inference(
+    data: &std::path::Path,
+    noise_levels: &[f64],
+) -> Result<ExitCode, AppError> {
+    if noise_levels.iter().any(|n| !(n.is_finite() && *n >= 0.0)) {
+        return Err(user_error(
+            "bench inference: --noise takes non-negative standard deviations (units)",
+        ));
+    }
     let root = DataRoot::open(data).user()?;
     let listing = root.list_videos(Scenario::Rope).user()?;
     if listing.valid.is_empty() {
@@ -57,6 +78,32 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
             root.scenario_dir(Scenario::Rope).display()
         )));
     }
+    let mut videos = Vec::with_capacity(listing.valid.len());
+    for video in &listing.valid {
+        videos.push((
+            video.id.0.clone(),
+            RopeAnnotation::load(&video.outputs_json()).user()?,
+            FourDData::load(&video.outputs_4d_json()).user()?,
+        ));
+    }
+    let sweeps: Vec<Value> = noise_levels
+        .iter()
+        .map(|&noise| sweep(&videos, noise))
+        .collect();
+    let report = if let [only] = sweeps.as_slice() {
+        only.clone()
+    } else {
+        json!({"bench": "inference", "scenario": "rope", "sweeps": sweeps})
+    };
+    let mut stdout = std::io::stdout().lock();
+    let text = serde_json::to_string_pretty(&report).internal()?;
+    let _ = writeln!(stdout, "{text}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Scores every pair of loads of `videos` with their tracked heights perturbed by `noise`.
+fn sweep(videos: &[(String, RopeAnnotation, FourDData)], noise: f64) -> Value {
+    let started = Instant::now();
     let mut within = 0_u64;
     let mut decided = 0_u64;
     let mut correct = 0_u64;
@@ -66,13 +113,20 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
     let mut undecided_cases = Vec::new();
     let mut wrong_cases = Vec::new();
     let mut failed_videos = Vec::new();
-    for video in &listing.valid {
-        let annotation = RopeAnnotation::load(&video.outputs_json()).user()?;
-        let four_d = FourDData::load(&video.outputs_4d_json()).user()?;
-        let inference = match infer_rope_masses(&annotation, &four_d) {
+    for (id, annotation, tracked) in videos {
+        let mut four_d = tracked.clone();
+        if noise > 0.0 {
+            let mut rng = seeded_rng(derive_seed(0, &format!("bench/inference/{id}/{noise}")));
+            for track in four_d.rigid_bodies.values_mut() {
+                for (position, _) in &mut track.poses {
+                    position[1] += noise * normal(&mut rng);
+                }
+            }
+        }
+        let inference = match infer_rope_masses(annotation, &four_d) {
             Ok(inference) => inference,
             Err(error) => {
-                failed_videos.push(json!({"video": video.id.0, "error": error.to_string()}));
+                failed_videos.push(json!({"video": id, "error": error.to_string()}));
                 continue;
             }
         };
@@ -109,7 +163,7 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
                             correct += 1;
                         } else {
                             wrong_cases.push(json!({
-                                "video": video.id.0,
+                                "video": id,
                                 "first": first,
                                 "second": second,
                                 "inferred_kg": masses,
@@ -122,7 +176,7 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
                     Some(PairVerdict::Undecidable(reason)) => {
                         *reasons.entry(reason_key(&reason)).or_insert(0) += 1;
                         undecided_cases.push(json!({
-                            "video": video.id.0,
+                            "video": id,
                             "first": first,
                             "second": second,
                             "reason": reason.to_string(),
@@ -131,7 +185,7 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
                     None => {
                         *reasons.entry("not_in_mechanism").or_insert(0) += 1;
                         undecided_cases.push(json!({
-                            "video": video.id.0,
+                            "video": id,
                             "first": first,
                             "second": second,
                             "reason": "a load the rebuilt mechanism does not hold",
@@ -143,18 +197,19 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
     }
     let ratio = |a: u64, b: u64| {
         if b == 0 {
-            serde_json::Value::Null
+            Value::Null
         } else {
             #[expect(clippy::cast_precision_loss, reason = "counts of pairs")]
             let value = a as f64 / b as f64;
             json!((value * 10_000.0).round() / 10_000.0)
         }
     };
-    let report = json!({
+    json!({
         "bench": "inference",
         "scenario": "rope",
         "what": "mass relations of load pairs inferred from tracked motion, against outputMass",
-        "videos": listing.valid.len(),
+        "track_noise_sd": noise,
+        "videos": videos.len(),
         "videos_failed": failed_videos,
         "pairs_in_one_group": within,
         "decided": decided,
@@ -170,9 +225,5 @@ pub(crate) fn bench_inference(data: &std::path::Path) -> Result<ExitCode, AppErr
         "wrong_cases": wrong_cases,
         "undecided_cases": undecided_cases,
         "wall_ms": u64::try_from(started.elapsed().as_millis()).unwrap_or(u64::MAX),
-    });
-    let mut stdout = std::io::stdout().lock();
-    let text = serde_json::to_string_pretty(&report).internal()?;
-    let _ = writeln!(stdout, "{text}");
-    Ok(ExitCode::SUCCESS)
+    })
 }

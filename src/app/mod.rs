@@ -54,7 +54,7 @@ pub fn execute(request: Request) -> ExitCode {
             bench_physics::bench_physics(&settings.scenario, &steps, settings.svg.as_deref())
         }
         Request::Render(settings) => render::render(&settings),
-        Request::BenchInference(data) => bench_inference::bench_inference(&data),
+        Request::BenchInference(data, noise) => bench_inference::bench_inference(&data, &noise),
         Request::Generate(settings) => generate::generate(&settings),
     };
     match result {

@@ -34,8 +34,8 @@ pub enum Request {
     Render(RenderSettings),
     /// `generate`.
     Generate(GenerateSettings),
-    /// `bench inference` over a data root.
-    BenchInference(PathBuf),
+    /// `bench inference` over a data root, at these track-noise levels (units).
+    BenchInference(PathBuf, Vec<f64>),
 }
 
 /// Which sampled split(s) a run evaluates.

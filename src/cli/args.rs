@@ -456,6 +456,10 @@ pub enum BenchCommand {
         /// Data root holding `pulley_group/<video_id>/`.
         #[arg(long, value_name = "DIR")]
         data: PathBuf,
+        /// Gaussian noise added to the tracked heights, standard deviations in units
+        /// (comma-separated; one sweep each).
+        #[arg(long, value_name = "SD,...", value_delimiter = ',', default_values_t = [0.0])]
+        noise: Vec<f64>,
     },
     /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
     /// mock server with a fixed latency.
@@ -599,7 +603,9 @@ impl Cli {
                 svg,
                 steps,
             }),
-            Some(Command::Bench(BenchCommand::Inference { data })) => Request::BenchInference(data),
+            Some(Command::Bench(BenchCommand::Inference { data, noise })) => {
+                Request::BenchInference(data, noise)
+            }
             Some(Command::Bench(BenchCommand::Llm {
                 latency_ms,
                 jobs,

@@ -48,15 +48,29 @@ use crate::physics::linalg::{Matrix, solve};
 
 /// Fewest frames a window must hold for its parabola to mean anything.
 pub const MIN_FRAMES: usize = 8;
-/// Largest RMS misfit (m) of a window's parabola: the real video's tracked loads follow one
-/// parabola over all 150 frames to 0.009 m, a load that hits a stop does not.
+/// Largest RMS misfit (m) of a window's parabola, or [`RESIDUAL_NOISE_FACTOR`] times the
+/// track's noise when that is larger: the real video's tracked loads follow one parabola over
+/// all 150 frames to 0.009 m, a load that hits a stop does not.
 pub const RESIDUAL_TOLERANCE: f64 = 0.02;
+/// See [`RESIDUAL_TOLERANCE`].
+pub const RESIDUAL_NOISE_FACTOR: f64 = 2.0;
 /// Smallest miss (m) of the next frame by the parabola through the frames before it that ends
 /// a window; the threshold is at least [`PREDICTION_NOISE_FACTOR`] times the fit's RMS misfit
-/// (the real purple cube's track wobbles by up to 0.025 m a frame).
+/// and [`PREDICTION_TRACK_NOISE_FACTOR`] times the track's noise (the real purple cube's track
+/// wobbles by up to 0.025 m a frame).
 pub const PREDICTION_TOLERANCE: f64 = 0.02;
 /// See [`PREDICTION_TOLERANCE`].
 pub const PREDICTION_NOISE_FACTOR: f64 = 5.0;
+/// See [`PREDICTION_TOLERANCE`]: a parabola through [`MIN_FRAMES`] noisy frames predicts the
+/// next to about twice the noise, so six times it is a change of motion, not noise.
+pub const PREDICTION_TRACK_NOISE_FACTOR: f64 = 6.0;
+/// Frames the noise of a track is estimated over (its second differences; the motion's own
+/// curvature adds `a·dt²`, under a millimetre here).
+pub const NOISE_FRAMES: usize = 40;
+/// Track noise (m) below which a track counts as exact and its window may grow from three
+/// frames; a noisier one starts from [`MIN_FRAMES`], since a parabola through three noisy
+/// frames predicts the fourth no better than four times the noise.
+pub const EXACT_TRACK_NOISE: f64 = 1e-4;
 /// Relative model error of an observed acceleration.
 pub const RELATIVE_MODEL_ERROR: f64 = 0.1;
 /// Absolute model error of an observed acceleration, m/s².
@@ -933,25 +947,39 @@ fn body_verdict(
     }
 }
 
-/// How many of the first frames follow one parabola: from three frames, the window grows
-/// while the parabola through the frames so far predicts the next one and still fits them all
-/// when it is added. Below [`MIN_FRAMES`] it is too short to measure.
+/// How many of the first frames follow one parabola: the window grows frame by frame while
+/// the parabola through the frames so far predicts the next one and still fits them all when
+/// it is added, to within tolerances that grow with the track's noise ([`track_noise`]). An
+/// exact track grows from three frames; a noisy one from [`MIN_FRAMES`] (or from three when
+/// even those do not fit one parabola, so a motion that changes early reads as such). Below
+/// [`MIN_FRAMES`] it is too short to measure.
 fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
     let count = times.len().min(heights.len());
     if count < 3 {
         return 0;
     }
-    let mut frames = 3;
+    let noise = track_noise(&heights[..count]);
+    let residual_tolerance = RESIDUAL_TOLERANCE.max(RESIDUAL_NOISE_FACTOR * noise);
+    let start = if noise > EXACT_TRACK_NOISE && count >= MIN_FRAMES {
+        fit_parabola(&times[..MIN_FRAMES], &heights[..MIN_FRAMES])
+            .filter(|fit| fit.residual <= residual_tolerance)
+            .map_or(3, |_| MIN_FRAMES)
+    } else {
+        3
+    };
+    let mut frames = start;
     let Some(mut fit) = fit_parabola(&times[..frames], &heights[..frames]) else {
         return 0;
     };
     while frames < count {
-        let tolerance = PREDICTION_TOLERANCE.max(PREDICTION_NOISE_FACTOR * fit.residual);
+        let tolerance = PREDICTION_TOLERANCE
+            .max(PREDICTION_NOISE_FACTOR * fit.residual)
+            .max(PREDICTION_TRACK_NOISE_FACTOR * noise);
         if (fit.at(times[frames]) - heights[frames]).abs() > tolerance {
             break;
         }
         match fit_parabola(&times[..=frames], &heights[..=frames]) {
-            Some(next) if next.residual <= RESIDUAL_TOLERANCE => {
+            Some(next) if next.residual <= residual_tolerance => {
                 fit = next;
                 frames += 1;
             }
@@ -959,6 +987,27 @@ fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
         }
     }
     frames
+}
+
+/// The RMS noise of a track (m), from its second differences over the first
+/// [`NOISE_FRAMES`] frames: white noise of σ gives differences of σ·√6; the median absolute
+/// deviation keeps a contact or two from inflating it.
+fn track_noise(heights: &[f64]) -> f64 {
+    let end = heights.len().min(NOISE_FRAMES);
+    let mut differences: Vec<f64> = heights[..end]
+        .windows(3)
+        .map(|w| w[2] - 2.0 * w[1] + w[0])
+        .collect();
+    if differences.is_empty() {
+        return 0.0;
+    }
+    let median = |values: &mut Vec<f64>| {
+        values.sort_by(f64::total_cmp);
+        values[values.len() / 2]
+    };
+    let centre = median(&mut differences);
+    let mut deviations: Vec<f64> = differences.iter().map(|d| (d - centre).abs()).collect();
+    1.4826 * median(&mut deviations) / 6.0_f64.sqrt()
 }
 
 /// A least-squares parabola `h(t) = h₀ + v₀ τ + ½ a τ²`, `τ = t − t₀`.
