@@ -319,7 +319,7 @@ fn random_shape(rng: &mut ChaCha8Rng) -> LoadShape {
 }
 
 /// Layout attempts before giving up (the release needs about 6.5 per accepted scene).
-const MAX_LAYOUT_ATTEMPTS: u32 = 10_000;
+pub const MAX_LAYOUT_ATTEMPTS: u32 = 10_000;
 
 /// Samples layouts until one passes the release's load-count condition and our checks.
 /// Returns the layout and the number of rejected attempts; `None` if none passed within
