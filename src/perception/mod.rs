@@ -6,6 +6,10 @@
 //!
 //! * [`camera`]: the release's Unity camera (projection, capture records).
 //! * [`frames`]: decoding only the frames asked for, from an mp4 or a PNG folder.
+//! * [`palette`]: the release's object colours and Unity's instance-segmentation colours.
+//! * [`detection`]: detector classes, instance masks and detections.
 
 pub mod camera;
+pub mod detection;
 pub mod frames;
+pub mod palette;

@@ -19,7 +19,7 @@ pub mod annotate;
 pub mod background;
 mod error;
 pub mod mesh;
-pub mod palette;
+pub use crate::perception::palette;
 pub mod raster;
 pub mod rope;
 pub mod video;

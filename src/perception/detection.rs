@@ -1,0 +1,367 @@
+//! What the detector says about one frame: object classes, instance masks and detections.
+//!
+//! Input: the model's label ids, boxes and pasted masks (from [`super::detector`]), or the
+//! release's object names and segmentation frames (ground truth for evaluation). Output: plain
+//! values that tracking, evaluation and the scene API share. Pixel coordinates are those of the
+//! frame the mask was made for (x right, y down, origin at the top-left corner).
+
+use serde::Serialize;
+
+/// The detector's classes. The numbers are the model's label ids (0 is background); they are a
+/// contract with `scripts/perception` and `models/maskrcnn-rope.json`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ObjectClass {
+    /// A cube load.
+    Cube = 1,
+    /// A sphere load.
+    Sphere = 2,
+    /// A rope.
+    Rope = 3,
+    /// A fixed point (a rope's anchor).
+    FixedPoint = 4,
+    /// A solid pulley on a fixed axle.
+    SolidStaticPulley = 5,
+    /// A hollow (spoked) pulley on a fixed axle.
+    HollowStaticPulley = 6,
+    /// A solid pulley hanging in a rope.
+    SolidDynamicPulley = 7,
+    /// A hollow pulley hanging in a rope.
+    HollowDynamicPulley = 8,
+}
+
+impl ObjectClass {
+    /// Every class, in label order.
+    pub const ALL: [ObjectClass; 8] = [
+        ObjectClass::Cube,
+        ObjectClass::Sphere,
+        ObjectClass::Rope,
+        ObjectClass::FixedPoint,
+        ObjectClass::SolidStaticPulley,
+        ObjectClass::HollowStaticPulley,
+        ObjectClass::SolidDynamicPulley,
+        ObjectClass::HollowDynamicPulley,
+    ];
+
+    /// The class of a model label id; `None` for background or an unknown id.
+    pub fn from_label(label: i64) -> Option<ObjectClass> {
+        ObjectClass::ALL.into_iter().find(|c| c.label() == label)
+    }
+
+    /// The model's label id.
+    pub fn label(self) -> i64 {
+        self as i64
+    }
+
+    /// The scene API's kind word (`cube`, `sphere`, `rope`, `fixed point`, `pulley`).
+    pub fn kind(self) -> &'static str {
+        match self {
+            ObjectClass::Cube => "cube",
+            ObjectClass::Sphere => "sphere",
+            ObjectClass::Rope => "rope",
+            ObjectClass::FixedPoint => "fixed point",
+            _ => "pulley",
+        }
+    }
+
+    /// Pulley shape (`solid`, `hollow`); `None` for other classes.
+    pub fn shape(self) -> Option<&'static str> {
+        match self {
+            ObjectClass::SolidStaticPulley | ObjectClass::SolidDynamicPulley => Some("solid"),
+            ObjectClass::HollowStaticPulley | ObjectClass::HollowDynamicPulley => Some("hollow"),
+            _ => None,
+        }
+    }
+
+    /// `dynamic` for movable pulleys and loads, `static` for the rest (the annotation
+    /// backend's convention).
+    pub fn dynamics(self) -> &'static str {
+        match self {
+            ObjectClass::SolidDynamicPulley
+            | ObjectClass::HollowDynamicPulley
+            | ObjectClass::Cube
+            | ObjectClass::Sphere
+            | ObjectClass::Rope => "dynamic",
+            _ => "static",
+        }
+    }
+
+    /// A short name for reports (`hollow static pulley`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ObjectClass::Cube => "cube",
+            ObjectClass::Sphere => "sphere",
+            ObjectClass::Rope => "rope",
+            ObjectClass::FixedPoint => "fixed point",
+            ObjectClass::SolidStaticPulley => "solid static pulley",
+            ObjectClass::HollowStaticPulley => "hollow static pulley",
+            ObjectClass::SolidDynamicPulley => "solid dynamic pulley",
+            ObjectClass::HollowDynamicPulley => "hollow dynamic pulley",
+        }
+    }
+
+    /// The class of a release object name (`Pink Hollow Static Pulley (0 5)`, `Gray Sphere`,
+    /// `Red Fixed Point`); `None` for names that are not detector classes (`Solver`).
+    pub fn from_object_name(name: &str) -> Option<ObjectClass> {
+        let lower = name.to_lowercase();
+        let words: Vec<&str> = lower
+            .split(|c: char| !c.is_ascii_alphabetic())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let has = |word: &str| words.contains(&word);
+        if has("pulley") {
+            let hollow = has("hollow");
+            let dynamic = has("dynamic");
+            return Some(match (hollow, dynamic) {
+                (false, false) => ObjectClass::SolidStaticPulley,
+                (true, false) => ObjectClass::HollowStaticPulley,
+                (false, true) => ObjectClass::SolidDynamicPulley,
+                (true, true) => ObjectClass::HollowDynamicPulley,
+            });
+        }
+        if has("cube") {
+            Some(ObjectClass::Cube)
+        } else if has("sphere") {
+            Some(ObjectClass::Sphere)
+        } else if has("rope") {
+            Some(ObjectClass::Rope)
+        } else if has("fixed") && has("point") {
+            Some(ObjectClass::FixedPoint)
+        } else {
+            None
+        }
+    }
+}
+
+/// A binary instance mask stored over its bounding rectangle in frame pixels.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct InstanceMask {
+    left: u32,
+    top: u32,
+    width: u32,
+    height: u32,
+    /// Row-major, `width × height`.
+    bits: Vec<bool>,
+}
+
+impl InstanceMask {
+    /// A mask over the rectangle at `(left, top)` of `width × height` pixels; `None` when `bits`
+    /// has the wrong length.
+    pub fn new(left: u32, top: u32, width: u32, height: u32, bits: Vec<bool>) -> Option<Self> {
+        (bits.len() == width as usize * height as usize).then_some(InstanceMask {
+            left,
+            top,
+            width,
+            height,
+            bits,
+        })
+    }
+
+    /// An empty mask (no pixels).
+    pub fn empty() -> Self {
+        InstanceMask {
+            left: 0,
+            top: 0,
+            width: 0,
+            height: 0,
+            bits: Vec::new(),
+        }
+    }
+
+    /// The mask of the pixels of a full `width × height` frame for which `inside(x, y)` holds,
+    /// cropped to their bounding rectangle.
+    pub fn from_predicate(width: u32, height: u32, inside: impl Fn(u32, u32) -> bool) -> Self {
+        let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+        for y in 0..height {
+            for x in 0..width {
+                if inside(x, y) {
+                    x0 = x0.min(x);
+                    y0 = y0.min(y);
+                    x1 = x1.max(x + 1);
+                    y1 = y1.max(y + 1);
+                }
+            }
+        }
+        if x0 == u32::MAX {
+            return InstanceMask::empty();
+        }
+        let (w, h) = (x1 - x0, y1 - y0);
+        let mut bits = Vec::with_capacity(w as usize * h as usize);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                bits.push(inside(x, y));
+            }
+        }
+        InstanceMask {
+            left: x0,
+            top: y0,
+            width: w,
+            height: h,
+            bits,
+        }
+    }
+
+    /// The rectangle `(left, top, width, height)` the mask is stored over.
+    pub fn rectangle(&self) -> (u32, u32, u32, u32) {
+        (self.left, self.top, self.width, self.height)
+    }
+
+    /// Whether frame pixel `(x, y)` is in the mask.
+    pub fn contains(&self, x: u32, y: u32) -> bool {
+        if x < self.left || y < self.top {
+            return false;
+        }
+        let (dx, dy) = (x - self.left, y - self.top);
+        if dx >= self.width || dy >= self.height {
+            return false;
+        }
+        self.bits[dy as usize * self.width as usize + dx as usize]
+    }
+
+    /// The frame pixels in the mask, row by row.
+    pub fn pixels(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.bits
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| **b)
+            .map(|(i, _)| {
+                let width = self.width.max(1) as usize;
+                (
+                    self.left + (i % width) as u32,
+                    self.top + (i / width) as u32,
+                )
+            })
+    }
+
+    /// Number of pixels in the mask.
+    pub fn area(&self) -> u64 {
+        self.bits.iter().filter(|b| **b).count() as u64
+    }
+
+    /// Pixels in both masks.
+    pub fn intersection(&self, other: &InstanceMask) -> u64 {
+        let x0 = self.left.max(other.left);
+        let y0 = self.top.max(other.top);
+        let x1 = (self.left + self.width).min(other.left + other.width);
+        let y1 = (self.top + self.height).min(other.top + other.height);
+        let mut count = 0;
+        for y in y0..y1.max(y0) {
+            for x in x0..x1.max(x0) {
+                if self.contains(x, y) && other.contains(x, y) {
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+
+    /// Intersection over union; 0 when both are empty.
+    pub fn iou(&self, other: &InstanceMask) -> f64 {
+        let intersection = self.intersection(other);
+        let union = self.area() + other.area() - intersection;
+        if union == 0 {
+            0.0
+        } else {
+            intersection as f64 / union as f64
+        }
+    }
+
+    /// The tight bounding box `[x0, y0, x1, y1)` of the set pixels; `None` when empty.
+    pub fn bounds(&self) -> Option<[u32; 4]> {
+        let mut result: Option<[u32; 4]> = None;
+        for (x, y) in self.pixels() {
+            let b = result.get_or_insert([x, y, x + 1, y + 1]);
+            b[0] = b[0].min(x);
+            b[1] = b[1].min(y);
+            b[2] = b[2].max(x + 1);
+            b[3] = b[3].max(y + 1);
+        }
+        result
+    }
+
+    /// The mean pixel position (pixel centres at `+0.5`); `None` when empty.
+    pub fn centroid(&self) -> Option<[f64; 2]> {
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
+        for (x, y) in self.pixels() {
+            sx += f64::from(x) + 0.5;
+            sy += f64::from(y) + 0.5;
+            n += 1.0;
+        }
+        (n > 0.0).then(|| [sx / n, sy / n])
+    }
+}
+
+/// One object found in one frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Detection {
+    /// 0-based frame index in the video.
+    pub frame: usize,
+    /// The detector's class.
+    pub class: ObjectClass,
+    /// The detector's confidence in `[0, 1]`.
+    pub score: f32,
+    /// The detector's box `[x0, y0, x1, y1]` in frame pixels.
+    pub bbox: [f32; 4],
+    /// The pasted, thresholded mask in frame pixels.
+    pub mask: InstanceMask,
+    /// The palette id of its colour (`perception::palette`), from the masked pixels; `None`
+    /// when no palette colour is close.
+    pub color: Option<u8>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn object_names_of_the_release_map_to_classes() {
+        let cases = [
+            (
+                "Pink Hollow Static Pulley (0 5)",
+                Some(ObjectClass::HollowStaticPulley),
+            ),
+            (
+                "Cyan Hollow Dynamic Pulley (0 4)",
+                Some(ObjectClass::HollowDynamicPulley),
+            ),
+            (
+                "Blue Solid Static Pulley (0 1)",
+                Some(ObjectClass::SolidStaticPulley),
+            ),
+            ("Light Blue Rope", Some(ObjectClass::Rope)),
+            ("Red Fixed Point", Some(ObjectClass::FixedPoint)),
+            ("Gray Sphere", Some(ObjectClass::Sphere)),
+            ("Purple Cube", Some(ObjectClass::Cube)),
+            ("Solver", None),
+        ];
+        for (name, class) in cases {
+            assert_eq!(ObjectClass::from_object_name(name), class, "{name}");
+        }
+        for class in ObjectClass::ALL {
+            assert_eq!(ObjectClass::from_label(class.label()), Some(class));
+        }
+        assert_eq!(ObjectClass::from_label(0), None);
+        assert_eq!(ObjectClass::from_label(9), None);
+    }
+
+    #[test]
+    fn masks_measure_area_overlap_bounds_and_centroid() {
+        // A 4×2 block at (2, 3) and a 2×2 block at (4, 3) in a 10×10 frame.
+        let a =
+            InstanceMask::from_predicate(10, 10, |x, y| (2..6).contains(&x) && (3..5).contains(&y));
+        let b =
+            InstanceMask::from_predicate(10, 10, |x, y| (4..6).contains(&x) && (3..5).contains(&y));
+        assert_eq!(a.rectangle(), (2, 3, 4, 2));
+        assert_eq!(a.area(), 8);
+        assert_eq!(a.intersection(&b), 4);
+        assert!((a.iou(&b) - 0.5).abs() < 1e-12);
+        assert_eq!(a.bounds(), Some([2, 3, 6, 5]));
+        assert_eq!(a.centroid(), Some([4.0, 4.0]));
+        assert!(a.contains(5, 4) && !a.contains(6, 4) && !a.contains(1, 3));
+        let empty = InstanceMask::empty();
+        assert_eq!(empty.area(), 0);
+        assert_eq!(empty.iou(&empty), 0.0);
+        assert_eq!(empty.bounds(), None);
+        assert!(InstanceMask::new(0, 0, 2, 2, vec![true; 3]).is_none());
+    }
+}
