@@ -16,6 +16,7 @@ mod frames;
 mod generate;
 mod llm;
 mod llm_run;
+mod perception;
 mod pipeline;
 mod prompt;
 mod shards;

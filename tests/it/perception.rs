@@ -1,0 +1,132 @@
+//! The Mask R-CNN session code driven with a tiny committed ONNX model that has the real export's
+//! contract (`scripts/perception/make_tiny_model.py`): the runtime loads, the contract is
+//! checked, frames are scaled to the model input, scores above the threshold are kept, boxes are
+//! scaled back to the frame and masks are pasted there. A corrupt or missing model is one clear
+//! error. These tests need ONNX Runtime (`scripts/setup-onnxruntime.sh`); `.ci/run` installs it,
+//! and under CI a missing runtime is a failure, not a skip.
+
+use std::path::{Path, PathBuf};
+
+use contphy_eval::perception::detection::ObjectClass;
+use contphy_eval::perception::detector::{Detector, DetectorConfig, DetectorError};
+use contphy_eval::perception::frames::RgbFrame;
+use contphy_eval::perception::runtime::library_available;
+
+#[expect(clippy::print_stderr, reason = "a skipped test says why")]
+pub(crate) fn need_runtime() -> bool {
+    if library_available() {
+        return true;
+    }
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "ONNX Runtime is not installed; .ci/run runs scripts/setup-onnxruntime.sh"
+    );
+    eprintln!("skipping: ONNX Runtime is not installed (scripts/setup-onnxruntime.sh)");
+    false
+}
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/perception")
+        .join(name)
+}
+
+fn uniform_frame(width: u32, height: u32, value: u8) -> RgbFrame {
+    RgbFrame {
+        index: 7,
+        width,
+        height,
+        rgb: vec![value; width as usize * height as usize * 3],
+    }
+}
+
+#[test]
+fn the_tiny_model_runs_through_the_session_and_its_outputs_are_read_whole() {
+    if !need_runtime() {
+        return;
+    }
+    let mut detector = Detector::load(DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1)).unwrap();
+    let image = ndarray::Array3::<f32>::ones((3, 270, 480));
+    let raw = detector.run_raw(&image.view(), 0).unwrap();
+    assert_eq!(raw.labels, vec![1, 3]);
+    assert_eq!(
+        raw.boxes,
+        vec![[10.0, 20.0, 38.0, 48.0], [100.0, 50.0, 200.0, 60.0]]
+    );
+    // sigmoid(4·1 − 2) on a white image.
+    let expected = 1.0 / (1.0 + (-2.0f64).exp());
+    assert!(
+        (f64::from(raw.scores[0]) - expected).abs() < 1e-6,
+        "{:?}",
+        raw.scores
+    );
+    assert!((raw.scores[1] - 0.3).abs() < 1e-7);
+    assert_eq!(raw.masks.len(), 2);
+    assert_eq!(
+        raw.masks[1]
+            .iter()
+            .filter(|v| (**v - 1.0).abs() < 1e-9)
+            .count(),
+        28 * 28
+    );
+}
+
+#[test]
+fn detections_are_thresholded_scaled_to_the_frame_and_their_masks_pasted_there() {
+    if !need_runtime() {
+        return;
+    }
+    let mut detector = Detector::load(DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1)).unwrap();
+    // A white 960×540 frame: the model sees 480×270, the cube scores 0.88 and the rope 0.3
+    // (below the 0.5 threshold), and the cube's box doubles to [20, 40, 76, 96].
+    let detections = detector.detect(&uniform_frame(960, 540, 255)).unwrap();
+    assert_eq!(detections.len(), 1, "{detections:?}");
+    let cube = &detections[0];
+    assert_eq!((cube.frame, cube.class), (7, ObjectClass::Cube));
+    let expected_box = [20.0f32, 40.0, 76.0, 96.0];
+    assert!(
+        cube.bbox
+            .iter()
+            .zip(expected_box)
+            .all(|(a, b)| (a - b).abs() < 1e-4),
+        "{:?}",
+        cube.bbox
+    );
+    // The disc has radius 10 of 28 mask pixels, so about 20 frame pixels: π·20² ≈ 1257.
+    let area = cube.mask.area();
+    assert!((1100..1400).contains(&area), "disc area {area}");
+    let [cx, cy] = cube.mask.centroid().unwrap();
+    assert!(
+        (cx - 48.0).abs() < 1.5 && (cy - 68.0).abs() < 1.5,
+        "{cx} {cy}"
+    );
+    // A black frame scores the cube sigmoid(−2) = 0.12: nothing is kept.
+    assert!(
+        detector
+            .detect(&uniform_frame(480, 270, 0))
+            .unwrap()
+            .is_empty()
+    );
+}
+
+#[test]
+fn a_corrupt_or_missing_model_is_one_clear_error() {
+    if !need_runtime() {
+        return;
+    }
+    let corrupt = data("corrupt.onnx");
+    let error = Detector::load(DetectorConfig::new(corrupt.clone(), 1)).unwrap_err();
+    assert!(matches!(error, DetectorError::Model { .. }), "{error:?}");
+    let message = error.to_string();
+    assert!(
+        message.starts_with(&format!("cannot load model {}", corrupt.display())),
+        "{message}"
+    );
+    assert!(!message.contains('\n'), "{message}");
+    let missing = data("no-such-model.onnx");
+    let error = Detector::load(DetectorConfig::new(missing, 1)).unwrap_err();
+    assert!(
+        matches!(error, DetectorError::MissingModel { .. }),
+        "{error:?}"
+    );
+}
