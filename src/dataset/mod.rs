@@ -17,6 +17,7 @@ mod question;
 mod question_file;
 mod rope;
 mod scenario;
+mod segmentation;
 mod video;
 
 pub use error::DatasetError;
@@ -34,4 +35,5 @@ pub use rope::{
     RopeObjectName, parse_rope_object_name, world as rope_world,
 };
 pub use scenario::Scenario;
+pub use segmentation::{PaintedInstance, SegmentationRecords};
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};

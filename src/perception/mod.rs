@@ -8,12 +8,16 @@
 //! * [`frames`]: decoding only the frames asked for, from an mp4 or a PNG folder.
 //! * [`palette`]: the release's object colours and Unity's instance-segmentation colours.
 //! * [`detection`]: detector classes, instance masks and detections.
+//! * [`color`]: palette colour words from masked pixels, relative to the wall.
+//! * [`truth`]: ground-truth instance masks from segmentation frames.
 //! * [`runtime`]: finding and loading the ONNX Runtime library (`ort`, `load-dynamic`).
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
 
 pub mod camera;
+pub mod color;
 pub mod detection;
 pub mod detector;
 pub mod frames;
 pub mod palette;
 pub mod runtime;
+pub mod truth;

@@ -1,0 +1,166 @@
+//! The release's per-frame instance-segmentation records (Unity Perception's solo captures inside
+//! `outputs.json`): which instance is painted in which colour in each segmentation frame, and the
+//! object name of each instance id.
+//!
+//! Input: an `outputs.json` path. Output: [`SegmentationRecords`], frames keyed 0-based (the
+//! file's keys count from 1), or a [`DatasetError`] naming the file and field. Used as ground
+//! truth for perception.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde_json::Value;
+
+use super::error::DatasetError;
+
+/// One instance painted in a segmentation frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PaintedInstance {
+    /// Unity's instance id (a key of `Id2ObjectNameDict`).
+    pub instance_id: u32,
+    /// Its colour in the segmentation frame (RGB).
+    pub color: [u8; 3],
+}
+
+/// A video's segmentation records.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SegmentationRecords {
+    /// Instance id → scene object name (`Pink Hollow Static Pulley (0 5)`).
+    pub names: BTreeMap<u32, String>,
+    /// 0-based frame index → the instances painted in it.
+    pub frames: BTreeMap<usize, Vec<PaintedInstance>>,
+}
+
+impl SegmentationRecords {
+    /// Reads the records of `outputs.json`.
+    pub fn read(path: &Path) -> Result<SegmentationRecords, DatasetError> {
+        let text = fs_err::read_to_string(path).map_err(|source| DatasetError::Read {
+            path: path.to_path_buf(),
+            source: source.into(),
+        })?;
+        let document: Value = serde_json::from_str(&text).map_err(|source| DatasetError::Json {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let field = |field: &str, problem: &str| DatasetError::Field {
+            path: path.to_path_buf(),
+            field: field.to_string(),
+            problem: problem.to_string(),
+        };
+        let descriptions = document
+            .get("imgAnnotationDescriptions")
+            .ok_or_else(|| field("imgAnnotationDescriptions", "is missing"))?;
+        let mut records = SegmentationRecords::default();
+        let names = descriptions
+            .get("Id2ObjectNameDict")
+            .and_then(Value::as_object)
+            .ok_or_else(|| {
+                field(
+                    "imgAnnotationDescriptions.Id2ObjectNameDict",
+                    "is missing or not an object",
+                )
+            })?;
+        for (key, name) in names {
+            let id = key.parse::<u32>().map_err(|_| {
+                field(
+                    "imgAnnotationDescriptions.Id2ObjectNameDict",
+                    &format!("has a key `{key}` that is not an instance id"),
+                )
+            })?;
+            let name = name.as_str().ok_or_else(|| {
+                field(
+                    &format!("imgAnnotationDescriptions.Id2ObjectNameDict.{key}"),
+                    "is not a string",
+                )
+            })?;
+            records.names.insert(id, name.to_string());
+        }
+        let frames = descriptions
+            .get("perFrameAnnotations")
+            .and_then(Value::as_object)
+            .ok_or_else(|| {
+                field(
+                    "imgAnnotationDescriptions.perFrameAnnotations",
+                    "is missing or not an object",
+                )
+            })?;
+        for (key, captures) in frames {
+            let where_ = format!("imgAnnotationDescriptions.perFrameAnnotations.{key}");
+            let number = key
+                .parse::<usize>()
+                .ok()
+                .filter(|n| *n >= 1)
+                .ok_or_else(|| field(&where_, "is not a frame number from 1"))?;
+            let annotations = captures
+                .get(0)
+                .and_then(|c| c.get("annotations"))
+                .and_then(Value::as_array)
+                .ok_or_else(|| field(&where_, "has no capture with annotations"))?;
+            let Some(segmentation) = annotations.iter().find(|a| {
+                a.get("@type")
+                    .and_then(Value::as_str)
+                    .is_some_and(|t| t.ends_with("InstanceSegmentationAnnotation"))
+            }) else {
+                continue;
+            };
+            let instances = segmentation
+                .get("instances")
+                .and_then(Value::as_array)
+                .ok_or_else(|| field(&where_, "has a segmentation without instances"))?;
+            let mut painted = Vec::with_capacity(instances.len());
+            for instance in instances {
+                let id = instance
+                    .get("instanceId")
+                    .and_then(Value::as_u64)
+                    .and_then(|id| u32::try_from(id).ok());
+                let color: Option<Vec<u8>> =
+                    instance.get("color").and_then(Value::as_array).map(|c| {
+                        c.iter()
+                            .filter_map(|v| v.as_u64().and_then(|v| u8::try_from(v).ok()))
+                            .collect()
+                    });
+                match (id, color.as_deref()) {
+                    (Some(instance_id), Some([r, g, b, ..])) => painted.push(PaintedInstance {
+                        instance_id,
+                        color: [*r, *g, *b],
+                    }),
+                    _ => return Err(field(&where_, "has an instance without id or colour")),
+                }
+            }
+            records.frames.insert(number - 1, painted);
+        }
+        Ok(records)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_real_videos_records_name_every_painted_instance() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0/outputs.json");
+        let records = SegmentationRecords::read(&path).expect("the demo video's records");
+        assert_eq!(records.frames.len(), 150);
+        assert_eq!(
+            records.names.get(&7).map(String::as_str),
+            Some("Purple Cube")
+        );
+        let first = &records.frames[&0];
+        assert_eq!(
+            first[0],
+            PaintedInstance {
+                instance_id: 1,
+                color: [255, 0, 0]
+            }
+        );
+        assert!(
+            records
+                .frames
+                .values()
+                .flatten()
+                .all(|p| records.names.contains_key(&p.instance_id))
+        );
+    }
+}

@@ -1,0 +1,308 @@
+//! Colour words from pixels: which palette colour (`perception::palette`) an object is painted
+//! in, read from the frame pixels under its mask.
+//!
+//! Shading scales an object's light, and the wall's colour shows the light's tint, so the
+//! features are taken in linear light relative to the wall (the median of the pixels no object
+//! covers): the chromaticity `(r, g) / (r + g + b)` and the log brightness `ln(r + g + b)` of the
+//! mean of the brighter half of the masked pixels (the lit side, away from shadowed edges). A
+//! [`ColorModel`] holds one diagonal Gaussian per palette colour, fitted on ground-truth masks of
+//! generated and real frames (`contphy-eval perception fit-colors`), and names the colour of
+//! highest likelihood. Input: an [`RgbFrame`], masks. Output: palette ids.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::detection::InstanceMask;
+use super::frames::RgbFrame;
+
+/// The feature vector of one object: linear chromaticity r, g and log brightness, relative to
+/// the wall.
+pub type ColorFeatures = [f64; 3];
+
+/// Smallest variance per feature, so a colour seen in few samples is not infinitely sharp.
+const VARIANCE_FLOOR: [f64; 3] = [1e-4, 1e-4, 1e-2];
+
+/// Fewest masked pixels a colour is read from.
+pub const MIN_PIXELS: usize = 8;
+
+/// sRGB byte to linear light.
+pub fn srgb_to_linear(byte: u8) -> f64 {
+    let c = f64::from(byte) / 255.0;
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn linear_pixel(frame: &RgbFrame, x: u32, y: u32) -> Option<[f64; 3]> {
+    frame.pixel(x, y).map(|p| p.map(srgb_to_linear))
+}
+
+fn median(values: &mut [f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    Some(values[values.len() / 2])
+}
+
+/// The wall's linear colour: the per-channel median of the pixels outside every mask, sampled on
+/// a grid of about 100×60 points. `None` when masks cover everything.
+pub fn wall_color(frame: &RgbFrame, masks: &[&InstanceMask]) -> Option<[f64; 3]> {
+    let step_x = (frame.width / 100).max(1);
+    let step_y = (frame.height / 60).max(1);
+    let mut channels: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+    for y in (0..frame.height).step_by(step_y as usize) {
+        for x in (0..frame.width).step_by(step_x as usize) {
+            if masks.iter().any(|m| m.contains(x, y)) {
+                continue;
+            }
+            if let Some(p) = linear_pixel(frame, x, y) {
+                for c in 0..3 {
+                    channels[c].push(p[c]);
+                }
+            }
+        }
+    }
+    let [r, g, b] = &mut channels;
+    Some([median(r)?, median(g)?, median(b)?]).filter(|w| w.iter().all(|c| *c > 1e-4))
+}
+
+/// The features of the pixels under `mask`, relative to `wall`; `None` with fewer than
+/// [`MIN_PIXELS`] pixels.
+pub fn features(frame: &RgbFrame, mask: &InstanceMask, wall: [f64; 3]) -> Option<ColorFeatures> {
+    let mut pixels: Vec<([f64; 3], f64)> = mask
+        .pixels()
+        .filter_map(|(x, y)| linear_pixel(frame, x, y))
+        .map(|p| {
+            let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
+            let luminance = 0.2126 * relative[0] + 0.7152 * relative[1] + 0.0722 * relative[2];
+            (relative, luminance)
+        })
+        .collect();
+    if pixels.len() < MIN_PIXELS {
+        return None;
+    }
+    pixels.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let bright = &pixels[pixels.len() / 2..];
+    let mut mean = [0.0; 3];
+    for (p, _) in bright {
+        for c in 0..3 {
+            mean[c] += p[c] / bright.len() as f64;
+        }
+    }
+    let sum = mean[0] + mean[1] + mean[2] + 1e-6;
+    let result = [mean[0] / sum, mean[1] / sum, sum.ln()];
+    result.iter().all(|v| v.is_finite()).then_some(result)
+}
+
+/// One palette colour's Gaussian.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ColorPrototype {
+    /// Palette id.
+    pub palette_id: u8,
+    /// Palette name.
+    pub name: String,
+    /// Feature means.
+    pub mean: [f64; 3],
+    /// Feature variances (floored).
+    pub variance: [f64; 3],
+    /// Samples it was fitted on.
+    pub samples: usize,
+}
+
+/// A fitted colour classifier.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ColorModel {
+    /// What it was fitted on (free text, for the record).
+    pub fitted_on: String,
+    /// One prototype per palette colour seen in fitting, by palette id.
+    pub prototypes: Vec<ColorPrototype>,
+}
+
+/// Why a colour model could not be read or fitted.
+#[derive(Debug, thiserror::Error)]
+pub enum ColorModelError {
+    /// The file could not be read.
+    #[error("cannot read colour model {path}")]
+    Read {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not a colour model.
+    #[error("colour model {path} is not valid: {message}")]
+    Invalid {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// No samples to fit.
+    #[error("no coloured objects to fit the colour model on")]
+    NoSamples,
+}
+
+impl ColorModel {
+    /// Fits one Gaussian per palette colour in `samples` (palette id, features).
+    pub fn fit(samples: &[(u8, ColorFeatures)], fitted_on: &str) -> Result<Self, ColorModelError> {
+        let mut prototypes = Vec::new();
+        for color in super::palette::PALETTE {
+            let own: Vec<&ColorFeatures> = samples
+                .iter()
+                .filter(|(id, _)| *id == color.id)
+                .map(|(_, f)| f)
+                .collect();
+            if own.is_empty() {
+                continue;
+            }
+            let n = own.len() as f64;
+            let mut mean = [0.0; 3];
+            for f in &own {
+                for c in 0..3 {
+                    mean[c] += f[c] / n;
+                }
+            }
+            let mut variance = [0.0; 3];
+            for f in &own {
+                for c in 0..3 {
+                    variance[c] += (f[c] - mean[c]).powi(2) / n;
+                }
+            }
+            for c in 0..3 {
+                variance[c] = variance[c].max(VARIANCE_FLOOR[c]);
+            }
+            prototypes.push(ColorPrototype {
+                palette_id: color.id,
+                name: color.name.to_string(),
+                mean,
+                variance,
+                samples: own.len(),
+            });
+        }
+        if prototypes.is_empty() {
+            return Err(ColorModelError::NoSamples);
+        }
+        Ok(ColorModel {
+            fitted_on: fitted_on.to_string(),
+            prototypes,
+        })
+    }
+
+    /// Reads a model written by [`ColorModel::fit`] and serde.
+    pub fn read(path: &Path) -> Result<Self, ColorModelError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ColorModelError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let model: ColorModel =
+            serde_json::from_str(&text).map_err(|e| ColorModelError::Invalid {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        let valid = !model.prototypes.is_empty()
+            && model.prototypes.iter().all(|p| {
+                super::palette::palette_color(p.palette_id).is_some()
+                    && p.mean.iter().all(|v| v.is_finite())
+                    && p.variance.iter().all(|v| v.is_finite() && *v > 0.0)
+            });
+        if !valid {
+            return Err(ColorModelError::Invalid {
+                path: path.to_path_buf(),
+                message: "prototypes must name palette colours and have finite, positive variances"
+                    .to_string(),
+            });
+        }
+        Ok(model)
+    }
+
+    /// The palette id of highest likelihood for `features`.
+    pub fn classify(&self, features: &ColorFeatures) -> Option<u8> {
+        self.prototypes
+            .iter()
+            .map(|p| {
+                let log_likelihood: f64 = (0..3)
+                    .map(|c| {
+                        -0.5 * ((features[c] - p.mean[c]).powi(2) / p.variance[c]
+                            + p.variance[c].ln())
+                    })
+                    .sum();
+                (log_likelihood, p.palette_id)
+            })
+            .filter(|(l, _)| l.is_finite())
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
+            .map(|(_, id)| id)
+    }
+}
+
+/// The palette id of a release object name's colour words (`Light Blue Rope` → 12), the longest
+/// palette name the name starts with.
+pub fn palette_id_of_name(name: &str) -> Option<u8> {
+    super::palette::PALETTE
+        .iter()
+        .filter(|c| {
+            name.len() > c.name.len()
+                && name[..c.name.len()].eq_ignore_ascii_case(c.name)
+                && name.as_bytes()[c.name.len()] == b' '
+        })
+        .max_by_key(|c| c.name.len())
+        .map(|c| c.id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_give_their_longest_palette_colour() {
+        assert_eq!(palette_id_of_name("Light Blue Rope"), Some(12));
+        assert_eq!(
+            palette_id_of_name("Blue Solid Static Pulley (0 1)"),
+            Some(5)
+        );
+        assert_eq!(palette_id_of_name("Gray Sphere"), Some(9));
+        assert_eq!(palette_id_of_name("Solver"), None);
+        assert_eq!(palette_id_of_name("Red"), None);
+    }
+
+    fn frame_with_square(color: [u8; 3]) -> (RgbFrame, InstanceMask) {
+        let (width, height) = (40u32, 30u32);
+        let inside = |x: u32, y: u32| (10..20).contains(&x) && (10..20).contains(&y);
+        let mut rgb = Vec::new();
+        for y in 0..height {
+            for x in 0..width {
+                rgb.extend_from_slice(&if inside(x, y) { color } else { [200, 200, 200] });
+            }
+        }
+        let frame = RgbFrame {
+            index: 0,
+            width,
+            height,
+            rgb,
+        };
+        (frame, InstanceMask::from_predicate(width, height, inside))
+    }
+
+    #[test]
+    fn features_are_relative_to_the_wall_and_the_nearest_prototype_wins() {
+        let (red_frame, mask) = frame_with_square([200, 0, 0]);
+        let wall = wall_color(&red_frame, &[&mask]).expect("a wall");
+        assert!((wall[0] - srgb_to_linear(200)).abs() < 1e-12);
+        let red = features(&red_frame, &mask, wall).expect("100 pixels");
+        // Pure red relative to a grey wall: chromaticity (1, 0), brightness ln(1).
+        assert!((red[0] - 1.0).abs() < 1e-4 && red[1].abs() < 1e-9 && red[2].abs() < 1e-4);
+        let (green_frame, _) = frame_with_square([0, 200, 0]);
+        let green = features(&green_frame, &mask, wall).expect("100 pixels");
+        let model = ColorModel::fit(&[(0, red), (0, red), (3, green)], "test").expect("a model");
+        assert_eq!(model.classify(&red), Some(0));
+        assert_eq!(model.classify(&green), Some(3));
+        assert!(ColorModel::fit(&[], "none").is_err());
+        // Too few pixels.
+        let tiny = InstanceMask::from_predicate(40, 30, |x, y| x == 10 && y < 3);
+        assert_eq!(features(&red_frame, &tiny, wall), None);
+    }
+}
