@@ -13,6 +13,7 @@ mod evaluate;
 mod exec;
 mod generate;
 mod llm_source;
+mod perception;
 mod pipeline;
 mod progress;
 mod questions;
@@ -24,6 +25,7 @@ mod settings;
 mod source;
 
 pub use error::{AppError, ErrorClass};
+pub use perception::{BenchPerceptionSettings, FitColorsSettings, FrameSelection};
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
     CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, FramesSelection,
@@ -56,6 +58,8 @@ pub fn execute(request: Request) -> ExitCode {
         Request::Render(settings) => render::render(&settings),
         Request::BenchInference(data, noise) => bench_inference::bench_inference(&data, &noise),
         Request::Generate(settings) => generate::generate(&settings),
+        Request::FitColors(settings) => perception::fit_colors(&settings),
+        Request::BenchPerception(settings) => perception::bench_perception(&settings),
     };
     match result {
         Ok(code) => code,

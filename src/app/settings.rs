@@ -36,6 +36,10 @@ pub enum Request {
     Generate(GenerateSettings),
     /// `bench inference` over a data root, at these track-noise levels (units).
     BenchInference(PathBuf, Vec<f64>),
+    /// `perception fit-colors`.
+    FitColors(super::perception::FitColorsSettings),
+    /// `bench perception`.
+    BenchPerception(super::perception::BenchPerceptionSettings),
 }
 
 /// Which sampled split(s) a run evaluates.

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
+    BenchPerceptionSettings, FitColorsSettings, FrameSelection,
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
     CacheImportSettings, CacheSettings, ExecSettings, FramesSelection, GenerateSettings,
     LlmSettings, QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings,
@@ -54,6 +55,62 @@ pub enum Command {
     /// Benchmarks, printed as JSON.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Perception models: fitting the colour model.
+    #[command(subcommand)]
+    Perception(PerceptionCommand),
+}
+
+/// Which frames perception commands use.
+#[derive(Debug, Args, Clone)]
+struct FrameSelectionArgs {
+    /// Use every N-th frame (0-based frame index divisible by N).
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    every: usize,
+    /// Only frames in START..END (0-based, END excluded).
+    #[arg(long, value_name = "START..END", value_parser = parse_frame_range)]
+    frame_range: Option<(usize, usize)>,
+    /// At most N videos, in folder order.
+    #[arg(long, value_name = "N")]
+    max_videos: Option<usize>,
+}
+
+fn parse_frame_range(text: &str) -> Result<(usize, usize), String> {
+    let (start, end) = text
+        .split_once("..")
+        .ok_or_else(|| format!("`{text}` is not START..END"))?;
+    let start: usize = start.trim().parse().map_err(|_| format!("`{start}` is not a frame index"))?;
+    let end: usize = end.trim().parse().map_err(|_| format!("`{end}` is not a frame index"))?;
+    if end <= start {
+        return Err(format!("`{text}` is empty: END must be above START"));
+    }
+    Ok((start, end))
+}
+
+impl FrameSelectionArgs {
+    fn selection(&self) -> FrameSelection {
+        FrameSelection {
+            every: self.every.max(1),
+            range: self.frame_range,
+            max_videos: self.max_videos,
+        }
+    }
+}
+
+/// `perception` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum PerceptionCommand {
+    /// Fit the colour model (one Gaussian per palette colour over wall-relative features) on the
+    /// segmentation truth of videos, and write it as JSON.
+    FitColors {
+        /// Data roots holding `pulley_group/<video_id>/` (repeatable).
+        #[arg(long, value_name = "DIR", required = true)]
+        data: Vec<PathBuf>,
+        #[command(flatten)]
+        frames: FrameSelectionArgs,
+        /// Where the model is written.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
 }
 
 /// Backend and budget flags shared by `run` and `exec`.
@@ -461,6 +518,25 @@ pub enum BenchCommand {
         #[arg(long, value_name = "SD,...", value_delimiter = ',', default_values_t = [0.0])]
         noise: Vec<f64>,
     },
+    /// Perception: the Mask R-CNN's masks, classes, colours and tracks against the segmentation
+    /// truth (AP@0.5, attribute accuracy, ID switches), and the time of decoding, inference and
+    /// postprocessing per frame, as JSON.
+    Perception {
+        /// Data root holding `pulley_group/<video_id>/`.
+        #[arg(long, value_name = "DIR")]
+        data: PathBuf,
+        #[command(flatten)]
+        frames: FrameSelectionArgs,
+        /// The ONNX model.
+        #[arg(long, value_name = "FILE", default_value = "models/maskrcnn-rope.onnx")]
+        model: PathBuf,
+        /// The colour model.
+        #[arg(long, value_name = "FILE", default_value = "models/color-model.json")]
+        colors: PathBuf,
+        /// ONNX Runtime threads.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        threads: usize,
+    },
     /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
     /// mock server with a fixed latency.
     Llm {
@@ -602,6 +678,26 @@ impl Cli {
                 scenario,
                 svg,
                 steps,
+            }),
+            Some(Command::Perception(PerceptionCommand::FitColors { data, frames, out })) => {
+                Request::FitColors(FitColorsSettings {
+                    data,
+                    frames: frames.selection(),
+                    out,
+                })
+            }
+            Some(Command::Bench(BenchCommand::Perception {
+                data,
+                frames,
+                model,
+                colors,
+                threads,
+            })) => Request::BenchPerception(BenchPerceptionSettings {
+                data,
+                frames: frames.selection(),
+                model,
+                colors,
+                threads: threads.max(1),
             }),
             Some(Command::Bench(BenchCommand::Inference { data, noise })) => {
                 Request::BenchInference(data, noise)

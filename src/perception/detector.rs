@@ -136,6 +136,17 @@ pub struct RawDetections {
     pub masks: Vec<Vec<f32>>,
 }
 
+/// Wall-clock time of the stages of one [`Detector::detect_timed`] call, ms.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct StageTimes {
+    /// Scaling to the model input and conversion to `f32`.
+    pub preprocess_ms: f64,
+    /// The ONNX Runtime session run and reading its outputs.
+    pub inference_ms: f64,
+    /// Thresholding and mask pasting.
+    pub postprocess_ms: f64,
+}
+
 /// A loaded detector. `detect` needs `&mut self` because an `ort` session runs mutably.
 pub struct Detector {
     session: Session,
@@ -243,6 +254,15 @@ impl Detector {
     /// threshold with a known class, and paste their masks at the frame's resolution. Colours
     /// are not read here (see `perception::color`).
     pub fn detect(&mut self, frame: &RgbFrame) -> Result<Vec<Detection>, DetectorError> {
+        self.detect_timed(frame).map(|(detections, _)| detections)
+    }
+
+    /// [`Detector::detect`], with the time each stage took.
+    pub fn detect_timed(
+        &mut self,
+        frame: &RgbFrame,
+    ) -> Result<(Vec<Detection>, StageTimes), DetectorError> {
+        let started = std::time::Instant::now();
         if frame.width == 0 || frame.height == 0 {
             return Err(DetectorError::EmptyFrame {
                 frame: frame.index,
@@ -251,7 +271,9 @@ impl Detector {
             });
         }
         let image = model_input(frame, self.config.input_width, self.config.input_height);
+        let preprocessed = std::time::Instant::now();
         let raw = self.run_raw(&image.view(), frame.index)?;
+        let inferred = std::time::Instant::now();
         let scale_x = frame.width as f32 / self.config.input_width as f32;
         let scale_y = frame.height as f32 / self.config.input_height as f32;
         let mut detections = Vec::new();
@@ -292,7 +314,12 @@ impl Detector {
                 color: None,
             });
         }
-        Ok(detections)
+        let times = StageTimes {
+            preprocess_ms: (preprocessed - started).as_secs_f64() * 1e3,
+            inference_ms: (inferred - preprocessed).as_secs_f64() * 1e3,
+            postprocess_ms: inferred.elapsed().as_secs_f64() * 1e3,
+        };
+        Ok((detections, times))
     }
 }
 

@@ -1,0 +1,342 @@
+//! Perception against ground truth: `perception fit-colors` (the colour model, fitted on the
+//! segmentation truth of generated and real videos) and `bench perception` (the Mask R-CNN's
+//! masks, colours, classes and tracks scored against the segmentation truth, with the time of
+//! each stage and frames per second), both printing JSON.
+//!
+//! Input: a data root with `pulley_group/<id>/` folders (mp4s or PNG frame folders, and
+//! `outputs.json` for the segmentation records), a frame selection, a model. Output: JSON on
+//! stdout (and a model file for `fit-colors`).
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use serde::Serialize;
+use serde_json::json;
+
+use super::error::{AppError, Classify as _, user_error};
+use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
+use crate::perception::color::{ColorModel, features, palette_id_of_name, wall_color};
+use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::detector::{Detector, DetectorConfig};
+use crate::perception::frames::{FrameSource, RgbFrame};
+use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
+
+/// Which frames of each video are used.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameSelection {
+    /// Every how many frames.
+    pub every: usize,
+    /// Only frames in `[start, end)` (0-based), when given.
+    pub range: Option<(usize, usize)>,
+    /// At most this many videos (in folder order), when given.
+    pub max_videos: Option<usize>,
+}
+
+/// `perception fit-colors` settings.
+#[derive(Debug, Clone)]
+pub struct FitColorsSettings {
+    /// Data roots to fit on.
+    pub data: Vec<PathBuf>,
+    /// Frames used.
+    pub frames: FrameSelection,
+    /// Where the model is written.
+    pub out: PathBuf,
+}
+
+/// `bench perception` settings.
+#[derive(Debug, Clone)]
+pub struct BenchPerceptionSettings {
+    /// Data root.
+    pub data: PathBuf,
+    /// Frames used.
+    pub frames: FrameSelection,
+    /// The ONNX model.
+    pub model: PathBuf,
+    /// The colour model.
+    pub colors: PathBuf,
+    /// ONNX Runtime threads.
+    pub threads: usize,
+}
+
+/// One ground-truth object in one frame.
+#[derive(Debug, Clone)]
+pub struct TruthObject {
+    /// Unity instance id.
+    pub instance_id: u32,
+    /// Its class.
+    pub class: ObjectClass,
+    /// Its palette colour.
+    pub color: Option<u8>,
+    /// Its mask.
+    pub mask: InstanceMask,
+}
+
+/// A video's frames and segmentation truth.
+struct TruthVideo {
+    rgb: FrameSource,
+    segmentation: FrameSource,
+    tolerance: u32,
+    records: SegmentationRecords,
+}
+
+fn open_truth_video(video: &VideoFolder) -> Result<TruthVideo, AppError> {
+    let png_rgb = video.dir.join(crate::synth::video::RGB_FRAME_DIR);
+    let png_seg = video.dir.join(crate::synth::video::SEGMENTATION_FRAME_DIR);
+    let (rgb, segmentation, tolerance) = if png_rgb.is_dir() && png_seg.is_dir() {
+        (
+            FrameSource::PngFolder(png_rgb),
+            FrameSource::PngFolder(png_seg),
+            8,
+        )
+    } else {
+        (
+            FrameSource::open(&video.rgb_video()).user()?,
+            FrameSource::open(&video.segmentation_video()).user()?,
+            MP4_TOLERANCE,
+        )
+    };
+    let records = SegmentationRecords::read(&video.outputs_json()).user()?;
+    Ok(TruthVideo {
+        rgb,
+        segmentation,
+        tolerance,
+        records,
+    })
+}
+
+fn selected_frames(records: &SegmentationRecords, selection: &FrameSelection) -> Vec<usize> {
+    let every = selection.every.max(1);
+    records
+        .frames
+        .keys()
+        .copied()
+        .filter(|f| selection.range.is_none_or(|(a, b)| (a..b).contains(f)))
+        .filter(|f| f % every == 0)
+        .collect()
+}
+
+fn truth_objects(
+    video: &TruthVideo,
+    segmentation: &RgbFrame,
+) -> Vec<TruthObject> {
+    let painted: Vec<(u32, [u8; 3])> = video
+        .records
+        .frames
+        .get(&segmentation.index)
+        .map(|list| {
+            list.iter()
+                .filter(|p| {
+                    video
+                        .records
+                        .names
+                        .get(&p.instance_id)
+                        .is_some_and(|n| ObjectClass::from_object_name(n).is_some())
+                })
+                .map(|p| (p.instance_id, p.color))
+                .collect()
+        })
+        .unwrap_or_default();
+    painted_masks(segmentation, &painted, video.tolerance)
+        .into_iter()
+        .filter_map(|(instance_id, mask)| {
+            let name = video.records.names.get(&instance_id)?;
+            Some(TruthObject {
+                instance_id,
+                class: ObjectClass::from_object_name(name)?,
+                color: palette_id_of_name(name),
+                mask,
+            })
+        })
+        .collect()
+}
+
+fn videos(data: &Path, selection: &FrameSelection) -> Result<Vec<VideoFolder>, AppError> {
+    let root = DataRoot::open(data).user()?;
+    let listing = root.list_videos(Scenario::Rope).user()?;
+    let mut videos: Vec<VideoFolder> = listing.valid;
+    if let Some(max) = selection.max_videos {
+        videos.truncate(max);
+    }
+    if videos.is_empty() {
+        return Err(user_error(format!(
+            "{}: no rope videos (pulley_group/<id>/) to use",
+            data.display()
+        )));
+    }
+    Ok(videos)
+}
+
+/// `perception fit-colors`.
+pub fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
+    let mut samples = Vec::new();
+    let mut described = Vec::new();
+    for data in &settings.data {
+        let videos = videos(data, &settings.frames)?;
+        let mut frames_used = 0usize;
+        for video in &videos {
+            let truth = open_truth_video(video)?;
+            let frames = selected_frames(&truth.records, &settings.frames);
+            let rgb_frames = truth.rgb.read(&frames).user()?;
+            let seg_frames = truth.segmentation.read(&frames).user()?;
+            for (rgb, segmentation) in rgb_frames.iter().zip(&seg_frames) {
+                let objects = truth_objects(&truth, segmentation);
+                let masks: Vec<&InstanceMask> = objects.iter().map(|o| &o.mask).collect();
+                let Some(wall) = wall_color(rgb, &masks) else {
+                    continue;
+                };
+                frames_used += 1;
+                for object in &objects {
+                    if let (Some(color), Some(f)) = (object.color, features(rgb, &object.mask, wall))
+                    {
+                        samples.push((color, f));
+                    }
+                }
+            }
+        }
+        described.push(format!(
+            "{} videos, {frames_used} frames of {}",
+            videos.len(),
+            data.file_name().map_or_else(|| data.display().to_string(), |n| n.to_string_lossy().into_owned())
+        ));
+    }
+    let model = ColorModel::fit(
+        &samples,
+        &format!(
+            "{} (every {} frames{})",
+            described.join("; "),
+            settings.frames.every,
+            settings
+                .frames
+                .range
+                .map_or_else(String::new, |(a, b)| format!(", frames {a}..{b}"))
+        ),
+    )
+    .user()?;
+    let text = serde_json::to_string_pretty(&model).internal()?;
+    crate::util::write_atomic(&settings.out, format!("{text}\n").as_bytes()).user()?;
+    let summary = json!({
+        "out": settings.out.display().to_string(),
+        "samples": samples.len(),
+        "colors": model.prototypes.iter().map(|p| json!({"name": p.name, "samples": p.samples})).collect::<Vec<_>>(),
+    });
+    let mut stdout = std::io::stdout().lock();
+    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Names each detection's colour with `colors`, reading the wall around the detections.
+pub fn color_detections(frame: &RgbFrame, detections: &mut [Detection], colors: &ColorModel) {
+    let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
+    let Some(wall) = wall_color(frame, &masks) else {
+        return;
+    };
+    let named: Vec<Option<u8>> = detections
+        .iter()
+        .map(|d| features(frame, &d.mask, wall).and_then(|f| colors.classify(&f)))
+        .collect();
+    for (detection, color) in detections.iter_mut().zip(named) {
+        detection.color = color;
+    }
+}
+
+#[derive(Debug, Default, Serialize)]
+struct Timing {
+    frames: usize,
+    decode_ms: f64,
+    preprocess_ms: f64,
+    inference_ms: f64,
+    postprocess_ms: f64,
+    color_ms: f64,
+}
+
+/// The detections and truth of every selected frame of every video, with timings.
+pub struct PerceptionRun {
+    /// Per video: (video id, frames of (frame index, detections, truth)).
+    pub videos: Vec<(String, Vec<(usize, Vec<Detection>, Vec<TruthObject>)>)>,
+}
+
+/// `bench perception`.
+pub fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, AppError> {
+    let colors = ColorModel::read(&settings.colors).user()?;
+    let mut detector =
+        Detector::load(DetectorConfig::new(settings.model.clone(), settings.threads)).user()?;
+    let videos = videos(&settings.data, &settings.frames)?;
+    let mut timing = Timing::default();
+    let mut run = PerceptionRun { videos: Vec::new() };
+    let started = Instant::now();
+    let mut release_size = None;
+    for video in &videos {
+        let truth = open_truth_video(video)?;
+        let frames = selected_frames(&truth.records, &settings.frames);
+        let decode_started = Instant::now();
+        let rgb_frames = truth.rgb.read(&frames).user()?;
+        timing.decode_ms += decode_started.elapsed().as_secs_f64() * 1e3;
+        let seg_frames = truth.segmentation.read(&frames).user()?;
+        let mut per_frame = Vec::new();
+        for (rgb, segmentation) in rgb_frames.iter().zip(&seg_frames) {
+            release_size.get_or_insert((rgb.width, rgb.height));
+            let (mut detections, times) = detector.detect_timed(rgb).user()?;
+            let color_started = Instant::now();
+            color_detections(rgb, &mut detections, &colors);
+            timing.color_ms += color_started.elapsed().as_secs_f64() * 1e3;
+            timing.frames += 1;
+            timing.preprocess_ms += times.preprocess_ms;
+            timing.inference_ms += times.inference_ms;
+            timing.postprocess_ms += times.postprocess_ms;
+            per_frame.push((rgb.index, detections, truth_objects(&truth, segmentation)));
+        }
+        run.videos.push((video.id.0.clone(), per_frame));
+    }
+    let wall_s = started.elapsed().as_secs_f64();
+    let metrics = score_run(&run);
+    let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;
+    let report = json!({
+        "data": settings.data.display().to_string(),
+        "videos": run.videos.len(),
+        "frames": timing.frames,
+        "frame_size": release_size.map(|(w, h)| format!("{w}x{h}")),
+        "model_input": format!("{}x{}", detector.config().input_width, detector.config().input_height),
+        "threads": settings.threads,
+        "ms_per_frame": {
+            "decode": per_frame(timing.decode_ms),
+            "preprocess": per_frame(timing.preprocess_ms),
+            "inference": per_frame(timing.inference_ms),
+            "postprocess": per_frame(timing.postprocess_ms),
+            "color": per_frame(timing.color_ms),
+        },
+        "frames_per_second": timing.frames as f64 / wall_s.max(1e-9),
+        "peak_rss_mib": peak_rss_mib(),
+        "metrics": metrics,
+    });
+    let mut stdout = std::io::stdout().lock();
+    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&report).unwrap_or_default());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The metrics of a run (filled in by `perception::evaluation`).
+fn score_run(run: &PerceptionRun) -> serde_json::Value {
+    let mut matched = 0usize;
+    let mut truths = 0usize;
+    let mut detections = 0usize;
+    for (_, frames) in &run.videos {
+        for (_, found, truth) in frames {
+            truths += truth.len();
+            detections += found.len();
+            matched += truth
+                .iter()
+                .filter(|t| found.iter().any(|d| d.mask.iou(&t.mask) >= 0.5))
+                .count();
+        }
+    }
+    json!({"truths": truths, "detections": detections, "truths_found_at_iou_0_5": matched})
+}
+
+/// The process's peak resident memory (`VmHWM`), MiB; `None` where `/proc` does not say.
+fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
