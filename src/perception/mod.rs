@@ -12,7 +12,10 @@
 //! * [`truth`]: ground-truth instance masks from segmentation frames.
 //! * [`runtime`]: finding and loading the ONNX Runtime library (`ort`, `load-dynamic`).
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
+//! * [`assignment`]: optimal one-to-one matching (the Hungarian method).
+//! * [`tracking`]: linking detections across frames into tracks with stable ids.
 
+pub mod assignment;
 pub mod camera;
 pub mod color;
 pub mod detection;
@@ -20,4 +23,5 @@ pub mod detector;
 pub mod frames;
 pub mod palette;
 pub mod runtime;
+pub mod tracking;
 pub mod truth;
