@@ -796,6 +796,64 @@ mod tests {
         assert_eq!(tracks[0].class, ObjectClass::Cube);
     }
 
+    /// A vertical rope `x0..x0 + 3` from `top` to `bottom`, over a 200×200 frame.
+    fn rope(color: u8, x0: u32, top: u32, bottom: u32) -> Detection {
+        let mask = InstanceMask::from_predicate(200, 200, |x, y| {
+            (x0..x0 + 3).contains(&x) && (top..bottom).contains(&y)
+        });
+        Detection {
+            frame: 0,
+            class: ObjectClass::Rope,
+            score: 0.8,
+            bbox: [x0 as f32, top as f32, (x0 + 3) as f32, bottom as f32],
+            mask,
+            color: Some(color),
+        }
+    }
+
+    #[test]
+    fn ropes_over_a_pulley_keep_their_ids_and_a_misread_rope_colour_is_absorbed() {
+        // A static pulley at (100, 40); a rope on each side of it, the left one paying out
+        // (its bottom and its load go down 1 px a frame), the right one reeling in. Both ropes
+        // run over the pulley (rows 30..50). In frame 5 the left rope is read as green, the
+        // pulley's colour.
+        let frames: Vec<_> = (0..12_u32)
+            .map(|f| {
+                let mut left = rope(RED, 88, 30, 120 + f);
+                if f == 5 {
+                    left.color = Some(GREEN);
+                }
+                let d = vec![
+                    square(ObjectClass::SolidStaticPulley, Some(GREEN), 100, 40, 12),
+                    left,
+                    rope(BLUE, 110, 30, 120 - f),
+                    cube(BLUE, 89, 126 + i64::from(f)),
+                ];
+                (f as usize, d)
+            })
+            .collect();
+        let tracks = run(&frames);
+        let summary: Vec<_> = tracks
+            .iter()
+            .map(|t| (t.id, t.class, t.color, t.observations.len()))
+            .collect();
+        assert_eq!(
+            summary,
+            vec![
+                // The cube's centroid (x = 89.0) is left of the left rope's (89.5).
+                (0, ObjectClass::Cube, Some(BLUE), 12),
+                (1, ObjectClass::Rope, Some(RED), 12),
+                (2, ObjectClass::SolidStaticPulley, Some(GREEN), 12),
+                (3, ObjectClass::Rope, Some(BLUE), 12),
+            ]
+        );
+        for t in &tracks {
+            for o in &t.observations {
+                assert_eq!(frames[o.frame].1[o.detection].class, t.class);
+            }
+        }
+    }
+
     #[test]
     fn output_is_deterministic_and_independent_of_detection_order() {
         let frames: Vec<_> = (0..15)
