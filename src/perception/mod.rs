@@ -12,12 +12,19 @@
 //! * [`truth`]: ground-truth instance masks from segmentation frames.
 //! * [`runtime`]: finding and loading the ONNX Runtime library (`ort`, `load-dynamic`).
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
+//! * [`assignment`]: optimal one-to-one matching (the Hungarian method).
+//! * [`tracking`]: linking detections across frames into tracks with stable ids.
+//! * [`evaluation`]: perception metrics against ground truth (mask and box AP, attribute
+//!   accuracy, identity switches).
 
+pub mod assignment;
 pub mod camera;
 pub mod color;
 pub mod detection;
 pub mod detector;
+pub mod evaluation;
 pub mod frames;
 pub mod palette;
 pub mod runtime;
+pub mod tracking;
 pub mod truth;
