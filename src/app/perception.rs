@@ -20,7 +20,12 @@ use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
 use crate::perception::color::{ColorModel, features, palette_id_of_name, wall_color};
 use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
 use crate::perception::detector::{Detector, DetectorConfig};
+use crate::perception::evaluation::{
+    MATCH_IOU, TruthInstance, attribute_accuracy, box_average_precision, id_switches,
+    mask_average_precision,
+};
 use crate::perception::frames::{FrameSource, RgbFrame};
+use crate::perception::tracking::{TrackerConfig, track};
 use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
 
 /// Which frames of each video are used.
@@ -58,19 +63,6 @@ pub struct BenchPerceptionSettings {
     pub colors: PathBuf,
     /// ONNX Runtime threads.
     pub threads: usize,
-}
-
-/// One ground-truth object in one frame.
-#[derive(Debug, Clone)]
-pub struct TruthObject {
-    /// Unity instance id.
-    pub instance_id: u32,
-    /// Its class.
-    pub class: ObjectClass,
-    /// Its palette colour.
-    pub color: Option<u8>,
-    /// Its mask.
-    pub mask: InstanceMask,
 }
 
 /// A video's frames and segmentation truth.
@@ -117,10 +109,7 @@ fn selected_frames(records: &SegmentationRecords, selection: &FrameSelection) ->
         .collect()
 }
 
-fn truth_objects(
-    video: &TruthVideo,
-    segmentation: &RgbFrame,
-) -> Vec<TruthObject> {
+fn truth_objects(video: &TruthVideo, segmentation: &RgbFrame) -> Vec<TruthInstance> {
     let painted: Vec<(u32, [u8; 3])> = video
         .records
         .frames
@@ -142,7 +131,7 @@ fn truth_objects(
         .into_iter()
         .filter_map(|(instance_id, mask)| {
             let name = video.records.names.get(&instance_id)?;
-            Some(TruthObject {
+            Some(TruthInstance {
                 instance_id,
                 class: ObjectClass::from_object_name(name)?,
                 color: palette_id_of_name(name),
@@ -169,7 +158,7 @@ fn videos(data: &Path, selection: &FrameSelection) -> Result<Vec<VideoFolder>, A
 }
 
 /// `perception fit-colors`.
-pub fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
+pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
     let mut samples = Vec::new();
     let mut described = Vec::new();
     for data in &settings.data {
@@ -188,7 +177,8 @@ pub fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
                 };
                 frames_used += 1;
                 for object in &objects {
-                    if let (Some(color), Some(f)) = (object.color, features(rgb, &object.mask, wall))
+                    if let (Some(color), Some(f)) =
+                        (object.color, features(rgb, &object.mask, wall))
                     {
                         samples.push((color, f));
                     }
@@ -198,7 +188,10 @@ pub fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
         described.push(format!(
             "{} videos, {frames_used} frames of {}",
             videos.len(),
-            data.file_name().map_or_else(|| data.display().to_string(), |n| n.to_string_lossy().into_owned())
+            data.file_name().map_or_else(
+                || data.display().to_string(),
+                |n| n.to_string_lossy().into_owned()
+            )
         ));
     }
     let model = ColorModel::fit(
@@ -222,12 +215,20 @@ pub fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
         "colors": model.prototypes.iter().map(|p| json!({"name": p.name, "samples": p.samples})).collect::<Vec<_>>(),
     });
     let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+    let _ = writeln!(
+        stdout,
+        "{}",
+        serde_json::to_string_pretty(&summary).unwrap_or_default()
+    );
     Ok(ExitCode::SUCCESS)
 }
 
 /// Names each detection's colour with `colors`, reading the wall around the detections.
-pub fn color_detections(frame: &RgbFrame, detections: &mut [Detection], colors: &ColorModel) {
+pub(super) fn color_detections(
+    frame: &RgbFrame,
+    detections: &mut [Detection],
+    colors: &ColorModel,
+) {
     let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
     let Some(wall) = wall_color(frame, &masks) else {
         return;
@@ -251,17 +252,23 @@ struct Timing {
     color_ms: f64,
 }
 
-/// The detections and truth of every selected frame of every video, with timings.
-pub struct PerceptionRun {
-    /// Per video: (video id, frames of (frame index, detections, truth)).
-    pub videos: Vec<(String, Vec<(usize, Vec<Detection>, Vec<TruthObject>)>)>,
+/// One scored frame: its index, the detections and the truth.
+type ScoredFrame = (usize, Vec<Detection>, Vec<TruthInstance>);
+
+/// The detections and truth of every selected frame of every video.
+pub(super) struct PerceptionRun {
+    /// Per video: its id and its scored frames.
+    pub videos: Vec<(String, Vec<ScoredFrame>)>,
 }
 
 /// `bench perception`.
-pub fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, AppError> {
+pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, AppError> {
     let colors = ColorModel::read(&settings.colors).user()?;
-    let mut detector =
-        Detector::load(DetectorConfig::new(settings.model.clone(), settings.threads)).user()?;
+    let mut detector = Detector::load(DetectorConfig::new(
+        settings.model.clone(),
+        settings.threads,
+    ))
+    .user()?;
     let videos = videos(&settings.data, &settings.frames)?;
     let mut timing = Timing::default();
     let mut run = PerceptionRun { videos: Vec::new() };
@@ -290,7 +297,7 @@ pub fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, 
         run.videos.push((video.id.0.clone(), per_frame));
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let metrics = score_run(&run);
+    let metrics = score_run(&run)?;
     let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;
     let report = json!({
         "data": settings.data.display().to_string(),
@@ -311,31 +318,69 @@ pub fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, 
         "metrics": metrics,
     });
     let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "{}", serde_json::to_string_pretty(&report).unwrap_or_default());
+    let _ = writeln!(
+        stdout,
+        "{}",
+        serde_json::to_string_pretty(&report).unwrap_or_default()
+    );
     Ok(ExitCode::SUCCESS)
 }
 
-/// The metrics of a run (filled in by `perception::evaluation`).
-fn score_run(run: &PerceptionRun) -> serde_json::Value {
-    let mut matched = 0usize;
-    let mut truths = 0usize;
-    let mut detections = 0usize;
-    for (_, frames) in &run.videos {
-        for (_, found, truth) in frames {
-            truths += truth.len();
-            detections += found.len();
-            matched += truth
-                .iter()
-                .filter(|t| found.iter().any(|d| d.mask.iou(&t.mask) >= 0.5))
-                .count();
-        }
+/// AP@0.5 (mask and box), attribute accuracy and tracking identity over a run, per video
+/// summed (tracks are per video).
+fn score_run(run: &PerceptionRun) -> Result<serde_json::Value, AppError> {
+    let mut all_detections = Vec::new();
+    let mut all_truth = Vec::new();
+    let mut identity = Vec::new();
+    let mut switches = 0usize;
+    let mut truth_instances = 0usize;
+    let mut mostly_tracked = 0usize;
+    // Frames of different videos are numbered apart so one list can hold them all.
+    for (video_index, (video_id, frames)) in run.videos.iter().enumerate() {
+        let offset = video_index * 1_000_000;
+        let detections: Vec<(usize, Vec<Detection>)> = frames
+            .iter()
+            .map(|(frame, found, _)| (*frame, found.clone()))
+            .collect();
+        let truth: Vec<(usize, Vec<TruthInstance>)> = frames
+            .iter()
+            .map(|(frame, _, objects)| (*frame, objects.clone()))
+            .collect();
+        let tracks = track(&detections, &TrackerConfig::default()).internal()?;
+        let report = id_switches(&tracks, &detections, &truth).internal()?;
+        switches += report.switches;
+        truth_instances += report.truth_instances;
+        mostly_tracked += report.mostly_tracked;
+        identity.push(json!({
+            "video": video_id,
+            "tracks": report.tracks,
+            "truth_instances": report.truth_instances,
+            "switches": report.switches,
+            "mostly_tracked": report.mostly_tracked,
+            "mota": report.mota,
+        }));
+        all_detections.extend(detections.into_iter().map(|(f, d)| (f + offset, d)));
+        all_truth.extend(truth.into_iter().map(|(f, t)| (f + offset, t)));
     }
-    json!({"truths": truths, "detections": detections, "truths_found_at_iou_0_5": matched})
+    let mask_ap = mask_average_precision(&all_detections, &all_truth, MATCH_IOU).internal()?;
+    let box_ap = box_average_precision(&all_detections, &all_truth, MATCH_IOU).internal()?;
+    let attributes = attribute_accuracy(&all_detections, &all_truth, 0.0).internal()?;
+    Ok(json!({
+        "mask_ap50": mask_ap,
+        "box_ap50": box_ap,
+        "attributes": attributes,
+        "tracking": {
+            "truth_instances": truth_instances,
+            "id_switches": switches,
+            "mostly_tracked": mostly_tracked,
+            "per_video": identity,
+        },
+    }))
 }
 
 /// The process's peak resident memory (`VmHWM`), MiB; `None` where `/proc` does not say.
 fn peak_rss_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let status = fs_err::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)

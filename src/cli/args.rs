@@ -5,11 +5,10 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchPerceptionSettings, FitColorsSettings, FrameSelection,
-    BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
-    CacheImportSettings, CacheSettings, ExecSettings, FramesSelection, GenerateSettings,
-    LlmSettings, QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings,
-    SplitSelection,
+    BenchLlmSettings, BenchPerceptionSettings, BenchPhysicsSettings, BenchSettings, Budgets,
+    CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings, FitColorsSettings,
+    FrameSelection, FramesSelection, GenerateSettings, LlmSettings, QuestionsSettings,
+    RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
@@ -62,24 +61,30 @@ pub enum Command {
 
 /// Which frames perception commands use.
 #[derive(Debug, Args, Clone)]
-struct FrameSelectionArgs {
+pub struct FrameSelectionArgs {
     /// Use every N-th frame (0-based frame index divisible by N).
     #[arg(long, value_name = "N", default_value_t = 10)]
-    every: usize,
+    pub every: usize,
     /// Only frames in START..END (0-based, END excluded).
     #[arg(long, value_name = "START..END", value_parser = parse_frame_range)]
-    frame_range: Option<(usize, usize)>,
+    pub frame_range: Option<(usize, usize)>,
     /// At most N videos, in folder order.
     #[arg(long, value_name = "N")]
-    max_videos: Option<usize>,
+    pub max_videos: Option<usize>,
 }
 
 fn parse_frame_range(text: &str) -> Result<(usize, usize), String> {
     let (start, end) = text
         .split_once("..")
         .ok_or_else(|| format!("`{text}` is not START..END"))?;
-    let start: usize = start.trim().parse().map_err(|_| format!("`{start}` is not a frame index"))?;
-    let end: usize = end.trim().parse().map_err(|_| format!("`{end}` is not a frame index"))?;
+    let start: usize = start
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{start}` is not a frame index"))?;
+    let end: usize = end
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{end}` is not a frame index"))?;
     if end <= start {
         return Err(format!("`{text}` is empty: END must be above START"));
     }

@@ -36,7 +36,7 @@ impl SegmentationRecords {
     pub fn read(path: &Path) -> Result<SegmentationRecords, DatasetError> {
         let text = fs_err::read_to_string(path).map_err(|source| DatasetError::Read {
             path: path.to_path_buf(),
-            source: source.into(),
+            source,
         })?;
         let document: Value = serde_json::from_str(&text).map_err(|source| DatasetError::Json {
             path: path.to_path_buf(),

@@ -195,7 +195,7 @@ impl ColorModel {
 
     /// Reads a model written by [`ColorModel::fit`] and serde.
     pub fn read(path: &Path) -> Result<Self, ColorModelError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ColorModelError::Read {
+        let text = fs_err::read_to_string(path).map_err(|source| ColorModelError::Read {
             path: path.to_path_buf(),
             source,
         })?;
