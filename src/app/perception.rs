@@ -283,6 +283,16 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         let seg_frames = truth.segmentation.read(&frames).user()?;
         let mut per_frame = Vec::new();
         for (rgb, segmentation) in rgb_frames.iter().zip(&seg_frames) {
+            if (rgb.width, rgb.height) != (segmentation.width, segmentation.height) {
+                return Err(user_error(format!(
+                    "video {}: the RGB frames are {}x{} but the segmentation frames are {}x{}; the truth masks would not line up",
+                    video.dir.display(),
+                    rgb.width,
+                    rgb.height,
+                    segmentation.width,
+                    segmentation.height
+                )));
+            }
             release_size.get_or_insert((rgb.width, rgb.height));
             let (mut detections, times) = detector.detect_timed(rgb).user()?;
             let color_started = Instant::now();

@@ -10,7 +10,7 @@ use contphy_eval::perception::frames::{FrameSource, FramesError, ffmpeg_availabl
 use crate::support::demo;
 
 #[expect(clippy::print_stderr, reason = "a skipped test says why")]
-fn need_ffmpeg() -> bool {
+pub(crate) fn need_ffmpeg() -> bool {
     if ffmpeg_available() {
         return true;
     }

@@ -130,3 +130,113 @@ fn a_corrupt_or_missing_model_is_one_clear_error() {
         "{error:?}"
     );
 }
+
+#[test]
+fn bench_perception_fails_with_one_clear_line_for_each_bad_input() {
+    use std::fmt::Write as _;
+    use std::process::Command;
+
+    if !need_runtime() || !crate::frames::need_ffmpeg() {
+        return;
+    }
+    let root = crate::support::root();
+    let scratch = tempfile::tempdir().unwrap();
+    // A data root whose "mp4" is a text file.
+    let broken = scratch.path().join("broken/pulley_group/0");
+    std::fs::create_dir_all(&broken).unwrap();
+    std::fs::copy(
+        root.join("eval/demo/pulley_group/0/outputs.json"),
+        broken.join("outputs.json"),
+    )
+    .unwrap();
+    std::fs::write(broken.join("output_Full.mp4"), "not a video\n").unwrap();
+    std::fs::write(broken.join("output_Full_seg.mp4"), "not a video\n").unwrap();
+    let colors = scratch.path().join("colors.json");
+    std::fs::write(
+        &colors,
+        r#"{"fitted_on": "test", "prototypes": [{"palette_id": 0, "name": "Red", "mean": [0.9, 0.05, 0.0], "variance": [0.01, 0.01, 0.1], "samples": 1}]}"#,
+    )
+    .unwrap();
+    let tiny = data("tiny-maskrcnn.onnx");
+    let tiny = tiny.to_str().unwrap();
+    let colors = colors.to_str().unwrap();
+    let demo = root.join("eval/demo");
+    let demo = demo.to_str().unwrap();
+    let broken_root = scratch.path().join("broken");
+    let broken_root = broken_root.to_str().unwrap();
+    let missing_library = scratch.path().join("no-such-libonnxruntime.so");
+    let not_a_library = data("corrupt.onnx");
+    let corrupt_model = data("corrupt.onnx");
+    let cases: Vec<(&str, Vec<&str>, Option<&Path>, i32)> = vec![
+        (
+            "runtime_missing",
+            vec!["--data", demo, "--model", tiny],
+            Some(&missing_library),
+            1,
+        ),
+        (
+            "runtime_not_a_library",
+            vec!["--data", demo, "--model", tiny],
+            Some(&not_a_library),
+            1,
+        ),
+        (
+            "model_corrupt",
+            vec!["--data", demo, "--model", corrupt_model.to_str().unwrap()],
+            None,
+            1,
+        ),
+        (
+            "mp4_not_a_video",
+            vec!["--data", broken_root, "--model", tiny],
+            None,
+            1,
+        ),
+        (
+            "colour_model_missing",
+            vec![
+                "--data",
+                demo,
+                "--model",
+                tiny,
+                "--colors",
+                "no-such-colors.json",
+            ],
+            None,
+            1,
+        ),
+        (
+            "frame_range_empty",
+            vec!["--data", demo, "--frame-range", "9..3"],
+            None,
+            2,
+        ),
+    ];
+    let mut transcript = String::new();
+    for (name, args, library, code) in cases {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_contphy-eval"));
+        command
+            .args(["bench", "perception", "--every", "50"])
+            .args(&args)
+            .current_dir(&root)
+            .env("NO_COLOR", "1");
+        if !args.contains(&"--colors") {
+            command.args(["--colors", colors]);
+        }
+        match library {
+            Some(path) => command.env("ORT_DYLIB_PATH", path),
+            None => command.env_remove("ORT_DYLIB_PATH"),
+        };
+        let output = command.output().unwrap();
+        let message = crate::support::stderr(&output)
+            .replace(scratch.path().to_str().unwrap(), "[TMP]")
+            .replace(root.to_str().unwrap(), "[ROOT]");
+        assert_eq!(output.status.code(), Some(code), "{name}: {message}");
+        assert!(!message.contains("panicked"), "{name}: {message}");
+        if code == 1 {
+            assert_eq!(message.lines().count(), 1, "{name}: {message}");
+        }
+        let _ = writeln!(transcript, "## {name}\n{message}");
+    }
+    insta::assert_snapshot!("bench_perception_errors", transcript);
+}
