@@ -56,7 +56,8 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
         _ => None,
     };
 
-    let spec = VideoSpec::new(&video, settings.perception, settings.dynamics);
+    let models = super::perception::check_models(settings.perception, &settings.perception_models)?;
+    let spec = VideoSpec::new(&video, settings.perception, settings.dynamics).with_models(models);
     let pool = start_pool(1, settings.budgets)?;
     pool.submit(Unit {
         id: 0,

@@ -27,6 +27,7 @@ use crate::perception::evaluation::{
 use crate::perception::frames::{FrameSource, RgbFrame};
 use crate::perception::tracking::{TrackerConfig, track};
 use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
+use crate::scene_api::{PerceptionBackend, PerceptionModels};
 
 /// Which frames of each video are used.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -394,4 +395,24 @@ fn peak_rss_mib() -> Option<f64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
+}
+
+/// With `--perception maskrcnn`: the model files made absolute (sandbox workers open them), after
+/// loading both once so a missing runtime or a broken model stops the run before any question
+/// (exit 1). Other backends pass through.
+pub(super) fn check_models(
+    backend: PerceptionBackend,
+    models: &PerceptionModels,
+) -> Result<PerceptionModels, AppError> {
+    if backend != PerceptionBackend::MaskRcnn {
+        return Ok(models.clone());
+    }
+    let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let models = PerceptionModels {
+        detector: absolute(&models.detector),
+        colors: absolute(&models.colors),
+    };
+    ColorModel::read(&models.colors).user()?;
+    Detector::load(DetectorConfig::new(models.detector.clone(), 1)).user()?;
+    Ok(models)
 }

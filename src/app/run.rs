@@ -28,6 +28,10 @@ use crate::util::content_hash;
 
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let root = DataRoot::open(&settings.data).user()?;
+    let mut settings = settings.clone();
+    settings.perception_models =
+        super::perception::check_models(settings.perception, &settings.perception_models)?;
+    let settings = &settings;
     let (sources, question_files) = load_questions(&root, settings)?;
     let mut questions: Vec<Question> = Vec::new();
     // Every question must name a video folder; invalid trials are skipped with a count.
@@ -360,7 +364,8 @@ fn plan_tasks(
         else {
             continue;
         };
-        let spec = VideoSpec::new(video, settings.perception, settings.dynamics);
+        let spec = VideoSpec::new(video, settings.perception, settings.dynamics)
+            .with_models(settings.perception_models.clone());
         if settings.per_question && question.answer_type.is_choice() {
             let units: Vec<(String, Option<ChoiceOption>)> = question
                 .units()

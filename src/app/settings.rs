@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use crate::dataset::{Scenario, Split};
-use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+use crate::scene_api::{DynamicsBackend, PerceptionBackend, PerceptionModels};
 
 /// A command to run.
 #[derive(Debug)]
@@ -101,6 +101,8 @@ pub struct RunSettings {
     pub repair: u32,
     /// Perception backend.
     pub perception: PerceptionBackend,
+    /// The model files of `--perception maskrcnn`.
+    pub perception_models: PerceptionModels,
     /// Dynamics backend.
     pub dynamics: DynamicsBackend,
     /// Sandbox budgets.
@@ -232,6 +234,8 @@ pub struct ExecSettings {
     pub option: Option<char>,
     /// Perception backend.
     pub perception: PerceptionBackend,
+    /// The model files of `--perception maskrcnn`.
+    pub perception_models: PerceptionModels,
     /// Dynamics backend.
     pub dynamics: DynamicsBackend,
     /// Sandbox budgets.

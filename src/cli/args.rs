@@ -11,7 +11,7 @@ use crate::app::{
     RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
-use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+use crate::scene_api::{DynamicsBackend, PerceptionBackend, PerceptionModels};
 use crate::synth::video::FrameOutput;
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
@@ -127,6 +127,12 @@ struct EngineArgs {
     /// Where dynamics answers come from.
     #[arg(long, value_enum, default_value_t = DynamicsArg::Annotation)]
     dynamics: DynamicsArg,
+    /// The Mask R-CNN ONNX model of `--perception maskrcnn`.
+    #[arg(long, value_name = "FILE", default_value = "models/maskrcnn-rope.onnx")]
+    detector_model: PathBuf,
+    /// The colour model of `--perception maskrcnn` (`perception fit-colors`).
+    #[arg(long, value_name = "FILE", default_value = "models/color-model.json")]
+    color_model: PathBuf,
     /// A program's own time budget, seconds (time inside scene-API calls is budgeted apart).
     #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
     program_timeout: f64,
@@ -142,6 +148,9 @@ struct EngineArgs {
 enum PerceptionArg {
     /// Objects, masks and tracks from the annotations (the paper's oracle perception).
     Annotation,
+    /// The Mask R-CNN ONNX model run on the frames (needs ONNX Runtime:
+    /// scripts/setup-onnxruntime.sh).
+    Maskrcnn,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -572,6 +581,14 @@ impl EngineArgs {
     fn perception(&self) -> PerceptionBackend {
         match self.perception {
             PerceptionArg::Annotation => PerceptionBackend::Annotation,
+            PerceptionArg::Maskrcnn => PerceptionBackend::MaskRcnn,
+        }
+    }
+
+    fn models(&self) -> PerceptionModels {
+        PerceptionModels {
+            detector: self.detector_model.clone(),
+            colors: self.color_model.clone(),
         }
     }
 
@@ -608,6 +625,7 @@ impl RunArgs {
             samples: self.samples,
             repair: self.repair,
             perception: self.engine.perception(),
+            perception_models: self.engine.models(),
             dynamics: self.engine.dynamics(),
             budgets: self.engine.budgets(),
         }
@@ -622,6 +640,7 @@ impl Cli {
             Some(Command::Run(args)) => Request::Run(Box::new(args.into_settings())),
             Some(Command::Exec(args)) => Request::Exec(ExecSettings {
                 perception: args.engine.perception(),
+                perception_models: args.engine.models(),
                 dynamics: args.engine.dynamics(),
                 budgets: args.engine.budgets(),
                 video: args.video,

@@ -23,12 +23,15 @@ pub struct PaintedInstance {
 }
 
 /// A video's segmentation records.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SegmentationRecords {
     /// Instance id → scene object name (`Pink Hollow Static Pulley (0 5)`).
     pub names: BTreeMap<u32, String>,
     /// 0-based frame index → the instances painted in it.
     pub frames: BTreeMap<usize, Vec<PaintedInstance>>,
+    /// 0-based frame index → the 2-D boxes of the visible instances: instance id and
+    /// `[x0, y0, x1, y1]` in pixels.
+    pub boxes: BTreeMap<usize, Vec<(u32, [f64; 4])>>,
 }
 
 impl SegmentationRecords {
@@ -96,6 +99,38 @@ impl SegmentationRecords {
                 .and_then(|c| c.get("annotations"))
                 .and_then(Value::as_array)
                 .ok_or_else(|| field(&where_, "has no capture with annotations"))?;
+            if let Some(boxes) = annotations.iter().find(|a| {
+                a.get("@type")
+                    .and_then(Value::as_str)
+                    .is_some_and(|t| t.ends_with("BoundingBox2DAnnotation"))
+            }) {
+                let values = boxes
+                    .get("values")
+                    .and_then(Value::as_array)
+                    .ok_or_else(|| {
+                        field(&where_, "has a bounding-box annotation without values")
+                    })?;
+                let mut parsed = Vec::with_capacity(values.len());
+                for value in values {
+                    let id = value
+                        .get("instanceId")
+                        .and_then(Value::as_u64)
+                        .and_then(|id| u32::try_from(id).ok());
+                    let pair = |key: &str| -> Option<[f64; 2]> {
+                        let list = value.get(key)?.as_array()?;
+                        Some([list.first()?.as_f64()?, list.get(1)?.as_f64()?])
+                    };
+                    match (id, pair("origin"), pair("dimension")) {
+                        (Some(id), Some([x, y]), Some([w, h])) => {
+                            parsed.push((id, [x, y, x + w, y + h]));
+                        }
+                        _ => {
+                            return Err(field(&where_, "has a box without id, origin or dimension"));
+                        }
+                    }
+                }
+                records.boxes.insert(number - 1, parsed);
+            }
             let Some(segmentation) = annotations.iter().find(|a| {
                 a.get("@type")
                     .and_then(Value::as_str)

@@ -11,6 +11,7 @@
 
 mod error;
 mod object;
+mod perceived;
 mod rope;
 pub mod rope_sim;
 mod scene;
@@ -19,7 +20,7 @@ mod vocabulary;
 pub use error::ApiError;
 pub use object::{ObjectId, SceneObjectInfo};
 pub use scene::{
-    DynamicsBackend, EventAction, PerceptionBackend, Property, Scene, SceneEvent, Target,
-    VideoSpec, WorkCounters,
+    DynamicsBackend, EventAction, PerceptionBackend, PerceptionModels, Property, Scene, SceneEvent,
+    Target, VideoSpec, WorkCounters,
 };
 pub use vocabulary::{COLOR_NAMES, NameQuery, parse_object_query};

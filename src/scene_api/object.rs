@@ -23,6 +23,10 @@ pub struct SceneObjectInfo {
     pub dynamics: String,
     /// Grid id `(layer, column)` of pulleys.
     pub grid: Option<(i32, i32)>,
+    /// Whether perception found it (always with `--perception annotation`); `find` returns
+    /// only objects that were found.
+    #[serde(skip)]
+    pub visible: bool,
 }
 
 impl SceneObjectInfo {

@@ -10,8 +10,6 @@
 //! questions compare. Inferred masses are the best-explaining candidates, and a pair reads
 //! "cannot tell" (`None`) unless the motion decides how the two compare.
 
-use std::path::Path;
-
 use indexmap::IndexMap;
 
 use std::collections::BTreeMap;
@@ -19,10 +17,14 @@ use std::sync::{Mutex, OnceLock, PoisonError};
 
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
+use super::perceived::{PerceivedScene, perceive_rope};
 use super::rope_sim::{
     RopeMassInference, RopeOutcome, Run, infer_rope_masses, load_multiplier, simulate_rope,
 };
-use super::scene::{DynamicsBackend, EventAction, Property, ScenarioBackend, SceneEvent, Target};
+use super::scene::{
+    DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
+    VideoSpec,
+};
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{
     FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name,
@@ -58,19 +60,23 @@ pub(crate) struct RopeBackend {
     simulation_work: Mutex<(u64, u64)>,
     /// The masses inferred from the tracked motion (`Simulate`), on first use.
     inference: OnceLock<Result<RopeMassInference, ApiError>>,
+    /// Frames decoded and run through the detector (`--perception maskrcnn`).
+    perception_work: (u64, u64),
 }
 
 impl RopeBackend {
-    pub(crate) fn load(
-        video_dir: &Path,
-        video_id: &str,
-        dynamics: DynamicsBackend,
-    ) -> Result<RopeBackend, ApiError> {
+    pub(crate) fn load(spec: &VideoSpec) -> Result<RopeBackend, ApiError> {
+        let video_dir = spec.video_dir.as_path();
         let mut backend = RopeBackend::new(
             RopeAnnotation::load(&video_dir.join("outputs.json"))?,
-            video_id,
+            &spec.video_id,
         )?;
+        let dynamics = spec.dynamics;
         backend.dynamics = dynamics;
+        if spec.perception == PerceptionBackend::MaskRcnn {
+            let perceived = perceive_rope(video_dir, &spec.models)?;
+            backend.apply_perception(&perceived);
+        }
         if dynamics == DynamicsBackend::Simulate {
             let path = video_dir.join("outputs4D.json");
             if path.is_file() {
@@ -97,6 +103,7 @@ impl RopeBackend {
                     shape: parsed.as_ref().and_then(|p| p.pulley_shape.clone()),
                     dynamics: object.dynamics.clone(),
                     grid: parsed.and_then(|p| p.grid),
+                    visible: true,
                 }
             })
             .collect();
@@ -141,7 +148,32 @@ impl RopeBackend {
             simulated: Mutex::new(BTreeMap::new()),
             simulation_work: Mutex::new((0, 0)),
             inference: OnceLock::new(),
+            perception_work: (0, 0),
         })
+    }
+
+    /// Replaces the objects' words with what perception saw; objects it did not see are hidden
+    /// from `find`.
+    fn apply_perception(&mut self, perceived: &PerceivedScene) {
+        for object in &mut self.objects {
+            match perceived
+                .objects
+                .iter()
+                .find(|(name, _)| *name == object.name)
+            {
+                Some((_, words)) => {
+                    object.color.clone_from(&words.color);
+                    object.kind = words.class.kind().to_string();
+                    object.shape = words.class.shape().map(str::to_string);
+                    if object.kind == "pulley" {
+                        object.dynamics = words.class.dynamics().to_string();
+                    }
+                    object.visible = true;
+                }
+                None => object.visible = false,
+            }
+        }
+        self.perception_work = (perceived.frames_decoded, perceived.detections);
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
@@ -425,6 +457,10 @@ impl ScenarioBackend for RopeBackend {
             .unwrap_or_else(PoisonError::into_inner)
     }
 
+    fn perception_work(&self) -> (u64, u64) {
+        self.perception_work
+    }
+
     fn objects(&self) -> &[SceneObjectInfo] {
         &self.objects
     }
@@ -608,7 +644,7 @@ mod tests {
     }
 
     fn scene_with(dynamics: DynamicsBackend) -> Scene {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
         let video = crate::dataset::VideoFolder {
             scenario: Scenario::Rope,
             id: VideoId("0".into()),
@@ -803,7 +839,8 @@ mod tests {
     #[test]
     fn simulated_masses_need_the_4d_tracks() {
         let dir = tempfile::tempdir().unwrap();
-        let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
+        let source =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
         fs_err::copy(source.join("outputs.json"), dir.path().join("outputs.json")).unwrap();
         let video = crate::dataset::VideoFolder {
             scenario: Scenario::Rope,

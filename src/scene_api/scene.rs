@@ -18,6 +18,28 @@ pub enum PerceptionBackend {
     /// Read from `outputs.json` (the paper's oracle perception).
     #[default]
     Annotation,
+    /// The Mask R-CNN ONNX model run on the video's frames (`perception::detector`), objects
+    /// tracked across frames and named by their colour and class.
+    #[serde(rename = "maskrcnn")]
+    MaskRcnn,
+}
+
+/// The model files `--perception maskrcnn` runs.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct PerceptionModels {
+    /// The Mask R-CNN ONNX model.
+    pub detector: PathBuf,
+    /// The colour model (`perception fit-colors`).
+    pub colors: PathBuf,
+}
+
+impl Default for PerceptionModels {
+    fn default() -> Self {
+        PerceptionModels {
+            detector: PathBuf::from("models/maskrcnn-rope.onnx"),
+            colors: PathBuf::from("models/color-model.json"),
+        }
+    }
 }
 
 /// Where dynamics answers come from.
@@ -45,6 +67,9 @@ pub struct VideoSpec {
     pub perception: PerceptionBackend,
     /// The dynamics backend.
     pub dynamics: DynamicsBackend,
+    /// The models of `--perception maskrcnn`.
+    #[serde(default)]
+    pub models: PerceptionModels,
 }
 
 impl VideoSpec {
@@ -60,7 +85,15 @@ impl VideoSpec {
             scenario: video.scenario,
             perception,
             dynamics,
+            models: PerceptionModels::default(),
         }
+    }
+
+    /// The spec with `models` for `--perception maskrcnn`.
+    #[must_use]
+    pub fn with_models(mut self, models: PerceptionModels) -> Self {
+        self.models = models;
+        self
     }
 }
 
@@ -225,6 +258,10 @@ pub(crate) trait ScenarioBackend: Send + Sync {
     fn simulation_work(&self) -> (u64, u64) {
         (0, 0)
     }
+    /// Frames decoded and run through the detector (0 without `--perception maskrcnn`).
+    fn perception_work(&self) -> (u64, u64) {
+        (0, 0)
+    }
 }
 
 /// One video's scene. Opening reads nothing; the first call that needs data loads it once.
@@ -265,6 +302,9 @@ impl Scene {
             let (runs, steps) = backend.simulation_work();
             work.sim_runs += runs;
             work.sim_steps += steps;
+            let (frames, detections) = backend.perception_work();
+            work.frames_decoded += frames;
+            work.detections += detections;
         }
         work
     }
@@ -309,6 +349,7 @@ impl Scene {
         let objects = self.objects()?;
         Ok(objects
             .iter()
+            .filter(|o| o.visible)
             .filter(|o| query.color.as_ref().is_none_or(|c| *c == o.color))
             .filter(|o| match query.kind.as_deref() {
                 None => true,
@@ -403,11 +444,7 @@ impl Scene {
 
 fn load_backend(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     match spec.scenario {
-        Scenario::Rope => Ok(Box::new(RopeBackend::load(
-            &spec.video_dir,
-            &spec.video_id,
-            spec.dynamics,
-        )?)),
+        Scenario::Rope => Ok(Box::new(RopeBackend::load(spec)?)),
         other => Err(ApiError::Unavailable(format!(
             "the {other} scene API has no backend yet; only rope scenes can be answered in this version"
         ))),

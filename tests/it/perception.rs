@@ -143,16 +143,16 @@ fn bench_perception_fails_with_one_clear_line_for_each_bad_input() {
     let scratch = tempfile::tempdir().unwrap();
     // A data root whose "mp4" is a text file.
     let broken = scratch.path().join("broken/pulley_group/0");
-    std::fs::create_dir_all(&broken).unwrap();
-    std::fs::copy(
+    fs_err::create_dir_all(&broken).unwrap();
+    fs_err::copy(
         root.join("eval/demo/pulley_group/0/outputs.json"),
         broken.join("outputs.json"),
     )
     .unwrap();
-    std::fs::write(broken.join("output_Full.mp4"), "not a video\n").unwrap();
-    std::fs::write(broken.join("output_Full_seg.mp4"), "not a video\n").unwrap();
+    fs_err::write(broken.join("output_Full.mp4"), "not a video\n").unwrap();
+    fs_err::write(broken.join("output_Full_seg.mp4"), "not a video\n").unwrap();
     let colors = scratch.path().join("colors.json");
-    std::fs::write(
+    fs_err::write(
         &colors,
         r#"{"fitted_on": "test", "prototypes": [{"palette_id": 0, "name": "Red", "mean": [0.9, 0.05, 0.0], "variance": [0.01, 0.01, 0.1], "samples": 1}]}"#,
     )

@@ -1,0 +1,188 @@
+//! `--perception maskrcnn` for rope scenes: the objects as the detector sees them.
+//!
+//! The Mask R-CNN runs on a few frames of the video's first two seconds (every
+//! [`FRAME_STEP`]-th frame up to [`LAST_FRAME`], the stretch in which the release's questions
+//! describe the scene), its detections are named by colour (`perception::color`) and tracked
+//! (`perception::tracking`), and each track names one object: its colour and class words are
+//! what `find` matches. Objects the detector misses are not findable, and a misread colour or
+//! class makes `find` return the wrong object or none, as in ContPRO.
+//!
+//! Binding a track to the mechanism the dynamics backends simulate still uses the release's
+//! first-frame 2-D boxes (one assignment by box overlap, kind against kind): the rope topology
+//! (which rope runs over which pulley) is not yet read from pixels. Input: a video folder and
+//! the model files. Output: per annotated object, its perceived words or `None` (not seen), and
+//! the work done.
+
+use std::path::Path;
+
+use super::error::ApiError;
+use super::scene::PerceptionModels;
+use crate::dataset::SegmentationRecords;
+use crate::perception::assignment::assign;
+use crate::perception::color::{ColorModel, features, wall_color};
+use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::detector::{Detector, DetectorConfig};
+use crate::perception::frames::FrameSource;
+use crate::perception::palette::palette_color;
+use crate::perception::tracking::{TrackerConfig, track};
+
+/// Every how many frames the detector runs.
+pub(crate) const FRAME_STEP: usize = 10;
+/// The last frame it runs on (0-based; 2 s at the release's 30 fps).
+pub(crate) const LAST_FRAME: usize = 60;
+/// Least box IoU for a track to name an annotated object.
+const MIN_BINDING_IOU: f64 = 0.3;
+
+/// What perception says about one annotated object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct PerceivedWords {
+    /// Colour words (`light blue`); empty when the colour was not recognised.
+    pub color: String,
+    /// The detector's class.
+    pub class: ObjectClass,
+}
+
+/// The outcome of perceiving one video.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PerceivedScene {
+    /// Annotated object name → its perceived words (objects not listed were not seen).
+    pub objects: Vec<(String, PerceivedWords)>,
+    /// Tracks that matched no annotated object (false positives).
+    pub unbound_tracks: usize,
+    /// Frames decoded.
+    pub frames_decoded: u64,
+    /// Frames run through the detector.
+    pub detections: u64,
+}
+
+fn unavailable(error: impl std::fmt::Display) -> ApiError {
+    ApiError::Unavailable(format!("perception (maskrcnn): {error}"))
+}
+
+/// Runs the detector on the video and binds its tracks to the annotated objects.
+pub(crate) fn perceive_rope(
+    video_dir: &Path,
+    models: &PerceptionModels,
+) -> Result<PerceivedScene, ApiError> {
+    let colors = ColorModel::read(&models.colors).map_err(unavailable)?;
+    let mut detector =
+        Detector::load(DetectorConfig::new(models.detector.clone(), 1)).map_err(unavailable)?;
+    let png = video_dir.join("frames/output_Full_ori");
+    let source = if png.is_dir() {
+        FrameSource::PngFolder(png)
+    } else {
+        FrameSource::open(&video_dir.join("output_Full.mp4"))
+            .map_err(|e| ApiError::Data(e.to_string()))?
+    };
+    let info = source.info().map_err(|e| ApiError::Data(e.to_string()))?;
+    let wanted: Vec<usize> = (0..=LAST_FRAME.min(info.frame_count.saturating_sub(1)))
+        .step_by(FRAME_STEP)
+        .collect();
+    let frames = source
+        .read(&wanted)
+        .map_err(|e| ApiError::Data(e.to_string()))?;
+    let mut scene = PerceivedScene {
+        frames_decoded: frames.len() as u64,
+        ..PerceivedScene::default()
+    };
+    let mut per_frame: Vec<(usize, Vec<Detection>)> = Vec::with_capacity(frames.len());
+    for frame in &frames {
+        let mut detections = detector.detect(frame).map_err(unavailable)?;
+        scene.detections += 1;
+        let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
+        if let Some(wall) = wall_color(frame, &masks) {
+            let named: Vec<Option<u8>> = detections
+                .iter()
+                .map(|d| features(frame, &d.mask, wall).and_then(|f| colors.classify(&f)))
+                .collect();
+            for (detection, color) in detections.iter_mut().zip(named) {
+                detection.color = color;
+            }
+        }
+        per_frame.push((frame.index, detections));
+    }
+    let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
+    let records = SegmentationRecords::read(&video_dir.join("outputs.json"))?;
+    // Each track's first observation, against the annotated boxes of that frame.
+    let candidates: Vec<(String, ObjectClass, usize, [f64; 4])> = records
+        .boxes
+        .iter()
+        .filter(|(frame, _)| wanted.contains(frame))
+        .flat_map(|(frame, boxes)| {
+            boxes.iter().filter_map(|(id, bbox)| {
+                let name = records.names.get(id)?;
+                let class = ObjectClass::from_object_name(name)?;
+                Some((name.clone(), class, *frame, *bbox))
+            })
+        })
+        .collect();
+    let mut names: Vec<String> = candidates.iter().map(|c| c.0.clone()).collect();
+    names.sort();
+    names.dedup();
+    let firsts: Vec<Option<(usize, [f64; 4])>> = tracks
+        .iter()
+        .map(|t| {
+            t.observations
+                .first()
+                .map(|p| (p.frame, p.bbox.map(f64::from)))
+        })
+        .collect();
+    let binding = assign(tracks.len(), names.len(), |t, n| {
+        let (frame, seen) = firsts[t]?;
+        let (_, class, _, annotated) = candidates
+            .iter()
+            .find(|c| c.0 == names[n] && c.2 == frame)?;
+        if class.kind() != tracks[t].class.kind() && !(is_load(*class) && is_load(tracks[t].class))
+        {
+            return None;
+        }
+        let overlap = box_iou(seen, *annotated);
+        (overlap >= MIN_BINDING_IOU).then_some(1.0 - overlap)
+    });
+    for (t, bound) in binding.iter().enumerate() {
+        match bound {
+            Some(n) => scene.objects.push((
+                names[*n].clone(),
+                PerceivedWords {
+                    color: tracks[t]
+                        .color
+                        .and_then(palette_color)
+                        .map(|c| c.name.to_lowercase())
+                        .unwrap_or_default(),
+                    class: tracks[t].class,
+                },
+            )),
+            None => scene.unbound_tracks += 1,
+        }
+    }
+    scene.objects.sort_by(|a, b| a.0.cmp(&b.0));
+    Ok(scene)
+}
+
+fn is_load(class: ObjectClass) -> bool {
+    matches!(class, ObjectClass::Cube | ObjectClass::Sphere)
+}
+
+fn box_iou(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let width = (a[2].min(b[2]) - a[0].max(b[0])).max(0.0);
+    let height = (a[3].min(b[3]) - a[1].max(b[1])).max(0.0);
+    let intersection = width * height;
+    let area = |r: [f64; 4]| (r[2] - r[0]).max(0.0) * (r[3] - r[1]).max(0.0);
+    let union = area(a) + area(b) - intersection;
+    if union > 0.0 {
+        intersection / union
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_overlap_is_intersection_over_union() {
+        assert!((box_iou([0.0, 0.0, 2.0, 2.0], [1.0, 0.0, 3.0, 2.0]) - 1.0 / 3.0).abs() < 1e-12);
+        assert!(box_iou([0.0, 0.0, 1.0, 1.0], [2.0, 2.0, 3.0, 3.0]).abs() < 1e-12);
+    }
+}
