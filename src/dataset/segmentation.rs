@@ -125,7 +125,10 @@ impl SegmentationRecords {
                             parsed.push((id, [x, y, x + w, y + h]));
                         }
                         _ => {
-                            return Err(field(&where_, "has a box without id, origin or dimension"));
+                            return Err(field(
+                                &where_,
+                                "has a box without id, origin or dimension",
+                            ));
                         }
                     }
                 }

@@ -240,3 +240,55 @@ fn bench_perception_fails_with_one_clear_line_for_each_bad_input() {
     }
     insta::assert_snapshot!("bench_perception_errors", transcript);
 }
+
+#[test]
+fn with_maskrcnn_perception_find_sees_only_what_the_detector_found() {
+    if !need_runtime() || !crate::frames::need_ffmpeg() {
+        return;
+    }
+    // The tiny model finds one "cube" in the top-left corner of every frame, where the real
+    // video has no object: nothing binds to the scene, so no object is findable, and the
+    // detector ran on the 7 frames 0, 10, ..., 60 only.
+    let root = crate::support::root();
+    let video = root.join("eval/demo/pulley_group/0");
+    let program = root.join("tests/fixtures/programs/color.py");
+    let colors = tempfile::NamedTempFile::new().unwrap();
+    fs_err::write(
+        colors.path(),
+        r#"{"fitted_on": "test", "prototypes": [{"palette_id": 6, "name": "Purple", "mean": [0.4, 0.2, 0.0], "variance": [0.01, 0.01, 0.1], "samples": 1}]}"#,
+    )
+    .unwrap();
+    let run = |perception: &str| {
+        let output = crate::support::contphy(
+            &root,
+            &[
+                "exec",
+                "--video",
+                video.to_str().unwrap(),
+                "--program",
+                program.to_str().unwrap(),
+                "--perception",
+                perception,
+                "--detector-model",
+                data("tiny-maskrcnn.onnx").to_str().unwrap(),
+                "--color-model",
+                colors.path().to_str().unwrap(),
+            ],
+        );
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{}",
+            crate::support::stderr(&output)
+        );
+        serde_json::from_str::<serde_json::Value>(&crate::support::stdout(&output)).unwrap()
+    };
+    let annotation = run("annotation");
+    assert_eq!(annotation["value"], 3, "{annotation}");
+    assert_eq!(annotation["work"]["detections"], 0);
+    let perceived = run("maskrcnn");
+    assert_eq!(perceived["value"], 0, "{perceived}");
+    assert_eq!(perceived["work"]["frames_decoded"], 7, "{perceived}");
+    assert_eq!(perceived["work"]["detections"], 7, "{perceived}");
+    assert_eq!(perceived["work"]["sim_runs"], 0);
+}
