@@ -292,3 +292,69 @@ fn with_maskrcnn_perception_find_sees_only_what_the_detector_found() {
     assert_eq!(perceived["work"]["detections"], 7, "{perceived}");
     assert_eq!(perceived["work"]["sim_runs"], 0);
 }
+
+#[derive(serde::Deserialize)]
+struct Reference {
+    boxes: Vec<[f32; 4]>,
+    labels: Vec<i64>,
+    scores: Vec<f32>,
+    masks: Vec<Vec<f32>>,
+    /// Per detection: `[y, x_start, x_end)` runs of torchvision's pasted mask at 480×270.
+    pasted_masks: Vec<Vec<[u32; 3]>>,
+}
+
+#[test]
+fn the_real_model_matches_python_onnxruntime_on_a_real_frame() {
+    use contphy_eval::perception::detector::{model_input, paste_mask, resize_rgb};
+    use contphy_eval::perception::frames::FrameSource;
+
+    if !need_runtime() || !crate::frames::need_ffmpeg() {
+        return;
+    }
+    let root = crate::support::root();
+    // Preprocessing: the real video's frame 59 (annotation key 60), box-averaged 4× in Rust,
+    // is byte for byte the PNG the Python reference was computed on.
+    let png = image::open(data("real-frame-060-480x270.png")).unwrap().to_rgb8();
+    let decoded = FrameSource::open(&root.join("eval/demo/pulley_group/0/output_Full.mp4"))
+        .unwrap()
+        .read(&[59])
+        .unwrap()
+        .remove(0);
+    assert_eq!(resize_rgb(&decoded, 480, 270), png.as_raw().clone());
+    let frame = RgbFrame {
+        index: 59,
+        width: 480,
+        height: 270,
+        rgb: png.into_raw(),
+    };
+    let reference: Reference =
+        serde_json::from_str(&fs_err::read_to_string(data("reference-outputs.json")).unwrap())
+            .unwrap();
+    let mut detector =
+        Detector::load(DetectorConfig::new(root.join("models/maskrcnn-rope.onnx"), 1)).unwrap();
+    let raw = detector
+        .run_raw(&model_input(&frame, 480, 270).view(), 59)
+        .unwrap();
+    assert!(!reference.labels.is_empty(), "the reference frame has detections");
+    assert_eq!(raw.labels, reference.labels);
+    let close = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-5);
+    assert!(close(&raw.scores, &reference.scores), "{:?}", raw.scores);
+    for (found, expected) in raw.boxes.iter().zip(&reference.boxes) {
+        assert!(close(found, expected), "{found:?} vs {expected:?}");
+    }
+    for (found, expected) in raw.masks.iter().zip(&reference.masks) {
+        assert_eq!(found.len(), expected.len());
+        assert!(close(found, expected));
+    }
+    // Pasting: Rust's paste equals torchvision's, pixel for pixel.
+    for (i, runs) in reference.pasted_masks.iter().enumerate() {
+        let mask = paste_mask(&raw.masks[i], raw.boxes[i], 480, 270, 0.5);
+        let expected: u64 = runs.iter().map(|[_, a, b]| u64::from(b - a)).sum();
+        assert_eq!(mask.area(), expected, "detection {i}");
+        for [y, start, end] in runs {
+            for x in *start..*end {
+                assert!(mask.contains(x, *y), "detection {i} pixel ({x}, {y})");
+            }
+        }
+    }
+}
