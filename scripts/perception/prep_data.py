@@ -1,0 +1,121 @@
+"""Build 480x270 training/eval caches (one .npz per video) from generated PNG videos or the real mp4.
+
+  python prep_data.py generated DATA_ROOT OUT_DIR [--every 3]
+  python prep_data.py real SAMPLE_VIDEO_DIR OUT_FILE
+
+Cache: imgs [F,270,480,3] uint8, inst [F,270,480] uint8 (instance ids), keys [F] (annotation keys),
+classes [256] int64 (instance id -> class id, 0 = ignore).
+Frame file frame_NNNNN.png (and mp4 frame i, 0-based) is annotation key i+1; checked on every video.
+"""
+import argparse
+import glob
+import os
+
+import numpy as np
+from PIL import Image
+
+from common import (IN_H, IN_W, box_average, class_of_name, decode_video, downscale_instance_map,
+                    frame_record, load_annotations, seg_to_instances)
+
+
+def check_boxes(inst, boxes, key, what):
+    """Every annotated box must equal the box of its instance's pixels (exact for generated)."""
+    bad = 0
+    for iid, (x0, y0, w, h) in boxes.items():
+        ys, xs = np.nonzero(inst == iid)
+        if len(xs) == 0:
+            bad += 1
+            continue
+        if (xs.min(), ys.min(), xs.max() - xs.min() + 1, ys.max() - ys.min() + 1) != (x0, y0, w, h):
+            bad += 1
+    return bad
+
+
+def class_table(names):
+    t = np.zeros(256, np.int64)
+    for iid, n in names.items():
+        t[iid] = class_of_name(n)
+    return t
+
+
+def prep_generated(root, out, every):
+    os.makedirs(out, exist_ok=True)
+    vids = sorted((p for p in glob.glob(os.path.join(root, "pulley_group", "*")) if os.path.basename(p).isdigit()), key=lambda p: int(os.path.basename(p)))
+    for vn, vd in enumerate(vids):
+        vid = int(os.path.basename(vd))
+        dst = os.path.join(out, f"{vid}.npz")
+        if os.path.exists(dst):
+            continue
+        try:
+            names, per_frame = load_annotations(os.path.join(vd, "outputs.json"))
+        except (OSError, ValueError):
+            continue  # still being generated
+        files = sorted(glob.glob(os.path.join(vd, "frames", "output_Full_ori", "frame_*.png")))
+        segs = glob.glob(os.path.join(vd, "frames", "output_Full_seg", "frame_*.png"))
+        if not files or len(files) != len(per_frame) or len(segs) != len(files):
+            continue  # incomplete
+        cls = class_table(names)
+        imgs, insts, keys = [], [], []
+        for i in range(vid % every, len(files), every):
+            key = i + 1
+            boxes, colours = frame_record(per_frame, key)
+            rgb = np.asarray(Image.open(files[i]).convert("RGB"))
+            seg = np.asarray(Image.open(files[i].replace("output_Full_ori", "output_Full_seg")).convert("RGB"))
+            full = seg_to_instances(seg, colours)
+            if i == vid % every or i == len(files) // 2:
+                assert check_boxes(full, boxes, key, vd) == 0, f"frame {i} != key {key} in {vd}"
+            f = rgb.shape[0] // IN_H
+            imgs.append(box_average(rgb, f))
+            insts.append(downscale_instance_map(full, f, list(colours)))
+            keys.append(key)
+        np.savez_compressed(dst, imgs=np.stack(imgs), inst=np.stack(insts), keys=np.array(keys), classes=cls)
+        print(f"{vd}: {len(keys)} frames", flush=True)
+
+
+def prep_real(vd, out, threshold=80.0):
+    names, per_frame = load_annotations(os.path.join(vd, "outputs.json"))
+    rgb = decode_video(os.path.join(vd, "output_Full.mp4"), 1920, 1080)
+    seg = decode_video(os.path.join(vd, "output_Full_seg.mp4"), 1920, 1080)
+    n = len(rgb)
+    # Mapping check: mean IoU of annotated boxes with mask boxes for offsets 0, 1, 2 on a few frames.
+    def mean_iou(i, key):
+        boxes, colours = frame_record(per_frame, key)
+        inst = seg_to_instances(seg[i], colours, threshold)
+        ious = []
+        for iid, (x0, y0, w, h) in boxes.items():
+            ys, xs = np.nonzero(inst == iid)
+            if len(xs) < 20:
+                continue
+            a = (x0, y0, x0 + w, y0 + h)
+            b = (xs.min(), ys.min(), xs.max() + 1, ys.max() + 1)
+            iw = max(0, min(a[2], b[2]) - max(a[0], b[0]))
+            ih = max(0, min(a[3], b[3]) - max(a[1], b[1]))
+            inter = iw * ih
+            ious.append(inter / ((a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter))
+        return float(np.mean(ious)) if ious else 0.0
+    for i in (10, 60, 120):
+        print("mp4 frame", i, {off: round(mean_iou(i, i + off), 4) for off in (0, 1, 2) if 1 <= i + off <= n})
+    cls = class_table(names)
+    imgs, insts, keys = [], [], []
+    for i in range(n):
+        key = i + 1
+        _, colours = frame_record(per_frame, key)
+        full = seg_to_instances(seg[i], colours, threshold)
+        imgs.append(box_average(rgb[i], 4))
+        insts.append(downscale_instance_map(full, 4, list(colours)))
+        keys.append(key)
+    np.savez_compressed(out, imgs=np.stack(imgs), inst=np.stack(insts), keys=np.array(keys), classes=cls)
+    print(out, n, "frames; names", names)
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser()
+    ap.add_argument("mode", choices=["generated", "real"])
+    ap.add_argument("src")
+    ap.add_argument("out")
+    ap.add_argument("--every", type=int, default=3)
+    a = ap.parse_args()
+    if a.mode == "generated":
+        prep_generated(a.src, a.out, a.every)
+    else:
+        prep_real(a.src, a.out)
