@@ -120,7 +120,15 @@ pub struct ColorModel {
     pub fitted_on: String,
     /// One prototype per palette colour seen in fitting, by palette id.
     pub prototypes: Vec<ColorPrototype>,
+    /// The fitting samples (palette id, features), for nearest-neighbour voting: a colour
+    /// renders differently in the release's Unity frames and in the generator's, and the
+    /// neighbours keep both looks apart where one Gaussian would blur them. Empty: Gaussians.
+    #[serde(default)]
+    pub samples: Vec<(u8, ColorFeatures)>,
 }
+
+/// Neighbours that vote in [`ColorModel::classify`].
+const NEIGHBOURS: usize = 7;
 
 /// Why a colour model could not be read or fitted.
 #[derive(Debug, thiserror::Error)]
@@ -187,9 +195,12 @@ impl ColorModel {
         if prototypes.is_empty() {
             return Err(ColorModelError::NoSamples);
         }
+        // Round the stored samples so the file stays small and diffable.
+        let round = |v: f64| (v * 1e4).round() / 1e4;
         Ok(ColorModel {
             fitted_on: fitted_on.to_string(),
             prototypes,
+            samples: samples.iter().map(|(id, f)| (*id, f.map(round))).collect(),
         })
     }
 
@@ -220,8 +231,13 @@ impl ColorModel {
         Ok(model)
     }
 
-    /// The palette id of highest likelihood for `features`.
+    /// The palette id of `features`: the majority of the nearest fitting samples (distances
+    /// scaled by each feature's spread), or the Gaussian of highest likelihood when the model
+    /// has no samples.
     pub fn classify(&self, features: &ColorFeatures) -> Option<u8> {
+        if self.samples.len() >= NEIGHBOURS {
+            return self.nearest_neighbours(features);
+        }
         self.prototypes
             .iter()
             .map(|p| {
@@ -236,6 +252,51 @@ impl ColorModel {
             .filter(|(l, _)| l.is_finite())
             .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
             .map(|(_, id)| id)
+    }
+}
+
+impl ColorModel {
+    fn nearest_neighbours(&self, features: &ColorFeatures) -> Option<u8> {
+        let n = self.samples.len() as f64;
+        let mut scale = [0.0; 3];
+        for c in 0..3 {
+            let mean = self.samples.iter().map(|(_, f)| f[c]).sum::<f64>() / n;
+            let variance = self
+                .samples
+                .iter()
+                .map(|(_, f)| (f[c] - mean).powi(2))
+                .sum::<f64>()
+                / n;
+            scale[c] = variance.sqrt().max(1e-6);
+        }
+        let mut distances: Vec<(f64, u8)> = self
+            .samples
+            .iter()
+            .map(|(id, f)| {
+                let d: f64 = (0..3)
+                    .map(|c| ((f[c] - features[c]) / scale[c]).powi(2))
+                    .sum();
+                (d, *id)
+            })
+            .filter(|(d, _)| d.is_finite())
+            .collect();
+        distances.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let nearest = &distances[..NEIGHBOURS.min(distances.len())];
+        // Votes, then the summed closeness of each colour's voters, then the smaller id.
+        let mut tally: Vec<(u8, usize, f64)> = Vec::new();
+        for (d, id) in nearest {
+            match tally.iter_mut().find(|t| t.0 == *id) {
+                Some(entry) => {
+                    entry.1 += 1;
+                    entry.2 += d;
+                }
+                None => tally.push((*id, 1, *d)),
+            }
+        }
+        tally
+            .into_iter()
+            .max_by(|a, b| a.1.cmp(&b.1).then(b.2.total_cmp(&a.2)).then(b.0.cmp(&a.0)))
+            .map(|(id, _, _)| id)
     }
 }
 
@@ -256,6 +317,24 @@ pub fn palette_id_of_name(name: &str) -> Option<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn neighbours_keep_two_looks_of_one_colour_apart_from_a_third_colour() {
+        // Purple seen in two looks (generated, brighter; real, darker) either side of red: the
+        // nearest samples name each look, and red in between stays red.
+        let mut samples = Vec::new();
+        for i in 0..5 {
+            let jitter = f64::from(i) * 0.002;
+            samples.push((6, [0.40 + jitter, 0.20, 0.5]));
+            samples.push((6, [0.40 + jitter, 0.20, -0.5]));
+            samples.push((0, [0.40 + jitter, 0.20, 0.0]));
+            samples.push((3, [0.10 + jitter, 0.60, 0.0]));
+        }
+        let model = ColorModel::fit(&samples, "test").expect("a model");
+        assert_eq!(model.samples.len(), 20);
+        assert_eq!(model.classify(&[0.404, 0.2, -0.48]), Some(6));
+        assert_eq!(model.classify(&[0.404, 0.2, 0.02]), Some(0));
+    }
 
     #[test]
     fn names_give_their_longest_palette_colour() {

@@ -314,7 +314,9 @@ fn the_real_model_matches_python_onnxruntime_on_a_real_frame() {
     let root = crate::support::root();
     // Preprocessing: the real video's frame 59 (annotation key 60), box-averaged 4× in Rust,
     // is byte for byte the PNG the Python reference was computed on.
-    let png = image::open(data("real-frame-060-480x270.png")).unwrap().to_rgb8();
+    let png = image::open(data("real-frame-060-480x270.png"))
+        .unwrap()
+        .to_rgb8();
     let decoded = FrameSource::open(&root.join("eval/demo/pulley_group/0/output_Full.mp4"))
         .unwrap()
         .read(&[59])
@@ -330,12 +332,18 @@ fn the_real_model_matches_python_onnxruntime_on_a_real_frame() {
     let reference: Reference =
         serde_json::from_str(&fs_err::read_to_string(data("reference-outputs.json")).unwrap())
             .unwrap();
-    let mut detector =
-        Detector::load(DetectorConfig::new(root.join("models/maskrcnn-rope.onnx"), 1)).unwrap();
+    let mut detector = Detector::load(DetectorConfig::new(
+        root.join("models/maskrcnn-rope.onnx"),
+        1,
+    ))
+    .unwrap();
     let raw = detector
         .run_raw(&model_input(&frame, 480, 270).view(), 59)
         .unwrap();
-    assert!(!reference.labels.is_empty(), "the reference frame has detections");
+    assert!(
+        !reference.labels.is_empty(),
+        "the reference frame has detections"
+    );
     assert_eq!(raw.labels, reference.labels);
     let close = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-5);
     assert!(close(&raw.scores, &reference.scores), "{:?}", raw.scores);
