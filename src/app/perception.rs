@@ -17,7 +17,7 @@ use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
-use crate::perception::color::{ColorModel, features, palette_id_of_name, wall_color};
+use crate::perception::color::{ColorModel, features, name_colors, palette_id_of_name, wall_color};
 use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::evaluation::{
@@ -224,25 +224,6 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
     Ok(ExitCode::SUCCESS)
 }
 
-/// Names each detection's colour with `colors`, reading the wall around the detections.
-pub(super) fn color_detections(
-    frame: &RgbFrame,
-    detections: &mut [Detection],
-    colors: &ColorModel,
-) {
-    let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
-    let Some(wall) = wall_color(frame, &masks) else {
-        return;
-    };
-    let named: Vec<Option<u8>> = detections
-        .iter()
-        .map(|d| features(frame, &d.mask, wall).and_then(|f| colors.classify(&f)))
-        .collect();
-    for (detection, color) in detections.iter_mut().zip(named) {
-        detection.color = color;
-    }
-}
-
 #[derive(Debug, Default, Serialize)]
 struct Timing {
     frames: usize,
@@ -297,7 +278,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
             release_size.get_or_insert((rgb.width, rgb.height));
             let (mut detections, times) = detector.detect_timed(rgb).user()?;
             let color_started = Instant::now();
-            color_detections(rgb, &mut detections, &colors);
+            name_colors(rgb, &mut detections, &colors);
             timing.color_ms += color_started.elapsed().as_secs_f64() * 1e3;
             timing.frames += 1;
             timing.preprocess_ms += times.preprocess_ms;

@@ -300,6 +300,26 @@ impl ColorModel {
     }
 }
 
+/// Names each detection's colour with `model`, reading the wall around the detections; leaves
+/// the colours unset when the detections cover the whole frame.
+pub fn name_colors(
+    frame: &RgbFrame,
+    detections: &mut [super::detection::Detection],
+    model: &ColorModel,
+) {
+    let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
+    let Some(wall) = wall_color(frame, &masks) else {
+        return;
+    };
+    let named: Vec<Option<u8>> = detections
+        .iter()
+        .map(|d| features(frame, &d.mask, wall).and_then(|f| model.classify(&f)))
+        .collect();
+    for (detection, color) in detections.iter_mut().zip(named) {
+        detection.color = color;
+    }
+}
+
 /// The palette id of a release object name's colour words (`Light Blue Rope` → 12), the longest
 /// palette name the name starts with.
 pub fn palette_id_of_name(name: &str) -> Option<u8> {

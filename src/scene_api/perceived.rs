@@ -19,8 +19,8 @@ use super::error::ApiError;
 use super::scene::PerceptionModels;
 use crate::dataset::SegmentationRecords;
 use crate::perception::assignment::assign;
-use crate::perception::color::{ColorModel, features, wall_color};
-use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::color::{ColorModel, name_colors};
+use crate::perception::detection::{Detection, ObjectClass};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::frames::FrameSource;
 use crate::perception::palette::palette_color;
@@ -89,16 +89,7 @@ pub(crate) fn perceive_rope(
     for frame in &frames {
         let mut detections = detector.detect(frame).map_err(unavailable)?;
         scene.detections += 1;
-        let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
-        if let Some(wall) = wall_color(frame, &masks) {
-            let named: Vec<Option<u8>> = detections
-                .iter()
-                .map(|d| features(frame, &d.mask, wall).and_then(|f| colors.classify(&f)))
-                .collect();
-            for (detection, color) in detections.iter_mut().zip(named) {
-                detection.color = color;
-            }
-        }
+        name_colors(frame, &mut detections, &colors);
         per_frame.push((frame.index, detections));
     }
     let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
