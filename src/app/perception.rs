@@ -397,3 +397,18 @@ pub(super) fn check_models(
     Detector::load(DetectorConfig::new(models.detector.clone(), 1)).user()?;
     Ok(models)
 }
+
+/// The content hashes of the detector and colour models with `--perception maskrcnn` (part of a
+/// run's identity); `None` for other backends.
+pub(super) fn model_hashes(
+    backend: PerceptionBackend,
+    models: &PerceptionModels,
+) -> Result<Option<[String; 2]>, AppError> {
+    if backend != PerceptionBackend::MaskRcnn {
+        return Ok(None);
+    }
+    let hash = |path: &Path| -> Result<String, AppError> {
+        Ok(crate::util::content_hash(&fs_err::read(path).user()?))
+    };
+    Ok(Some([hash(&models.detector)?, hash(&models.colors)?]))
+}

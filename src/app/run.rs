@@ -91,6 +91,10 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         source_identity: source_identity(&source.describe()),
         offline: settings.offline,
         perception: settings.perception,
+        perception_models: super::perception::model_hashes(
+            settings.perception,
+            &settings.perception_models,
+        )?,
         dynamics: settings.dynamics,
         budgets: settings.budgets,
         split: settings.split,

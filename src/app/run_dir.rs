@@ -52,6 +52,10 @@ pub(crate) struct RunIdentity {
     /// Repair turns per program.
     #[serde(default)]
     pub(crate) repair: u32,
+    /// With `--perception maskrcnn`: the content hashes of the detector and colour models, so a
+    /// resume with other models is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) perception_models: Option<[String; 2]>,
 }
 
 /// `manifest.json`.

@@ -366,3 +366,71 @@ fn the_real_model_matches_python_onnxruntime_on_a_real_frame() {
         }
     }
 }
+
+#[test]
+fn a_resume_with_other_perception_models_is_refused() {
+    if !need_runtime() || !crate::frames::need_ffmpeg() {
+        return;
+    }
+    let root = crate::support::root();
+    let scratch = tempfile::tempdir().unwrap();
+    let out = scratch.path().join("run");
+    let write_colors = |name: &str, palette_id: u8| {
+        let path = scratch.path().join(name);
+        fs_err::write(
+            &path,
+            format!(
+                r#"{{"fitted_on": "test", "prototypes": [{{"palette_id": {palette_id}, "name": "x", "mean": [0.4, 0.2, 0.0], "variance": [0.01, 0.01, 0.1], "samples": 1}}]}}"#
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let first = write_colors("first.json", 6);
+    let second = write_colors("second.json", 0);
+    let run = |colors: &Path, resume: bool| {
+        let mut args = vec![
+            "--data",
+            "eval/demo",
+            "--questions",
+            "eval/demo/pulley_group/0.json",
+            "--limit",
+            "2",
+            "--quiet",
+            "--perception",
+            "maskrcnn",
+            "--detector-model",
+            "tests/data/perception/tiny-maskrcnn.onnx",
+            "--color-model",
+            colors.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if resume {
+            args.push("--resume");
+        }
+        crate::support::contphy(&root, &args)
+    };
+    let output = run(&first, false);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        crate::support::stderr(&output)
+    );
+    let output = run(&first, true);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        crate::support::stderr(&output)
+    );
+    let output = run(&second, true);
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "{}",
+        crate::support::stderr(&output)
+    );
+    assert!(crate::support::stderr(&output).contains("different settings or data"));
+}
