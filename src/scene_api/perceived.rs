@@ -17,14 +17,15 @@ use std::path::Path;
 
 use super::error::ApiError;
 use super::scene::PerceptionModels;
-use crate::dataset::SegmentationRecords;
+use crate::dataset::{Camera, SegmentationRecords};
 use crate::perception::assignment::assign;
+use crate::perception::camera::CameraModel;
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::{Detection, ObjectClass};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::frames::FrameSource;
 use crate::perception::palette::palette_color;
-use crate::perception::tracking::{TrackerConfig, track};
+use crate::perception::tracking::{Track, TrackerConfig, track};
 
 /// Every how many frames the detector runs.
 pub(crate) const FRAME_STEP: usize = 10;
@@ -59,11 +60,88 @@ fn unavailable(error: impl std::fmt::Display) -> ApiError {
     ApiError::Unavailable(format!("perception (maskrcnn): {error}"))
 }
 
-/// Runs the detector on the video and binds its tracks to the annotated objects.
+/// Runs the detector on frames 0, 10, …, 60 and binds its tracks to the annotated objects.
 pub(crate) fn perceive_rope(
     video_dir: &Path,
     models: &PerceptionModels,
 ) -> Result<PerceivedScene, ApiError> {
+    perceive(video_dir, models, |count| {
+        (0..=LAST_FRAME.min(count.saturating_sub(1)))
+            .step_by(FRAME_STEP)
+            .collect()
+    })
+    .map(|(scene, _)| scene)
+}
+
+/// The world positions of the bound objects in every frame of the video: the detector runs on
+/// all frames, and each track's mask centroid is lifted onto the scene plane (`z = 0`, where the
+/// release lays out every rope scene) along the camera's viewing ray. Frames where a track was
+/// not seen are `None`. Also returns the work done.
+pub(crate) fn perceive_positions(
+    video_dir: &Path,
+    models: &PerceptionModels,
+    camera: &Camera,
+) -> Result<PerceivedPositions, ApiError> {
+    let (scene, bound) = perceive(video_dir, models, |count| (0..count).collect())?;
+    let mut positions = Vec::new();
+    for (name, track, size) in bound {
+        let model = CameraModel::from_unity_euler(
+            camera.position,
+            camera.rotation_deg,
+            camera.vertical_fov_deg,
+            size.0,
+            size.1,
+        );
+        let last = track.last_frame().unwrap_or(0);
+        let mut per_frame = vec![None; last + 1];
+        for point in &track.observations {
+            let direction = model.ray(point.centroid[0], point.centroid[1]);
+            if direction[2].abs() < 1e-9 {
+                continue;
+            }
+            let distance = -camera.position[2] / direction[2];
+            let world = [
+                camera.position[0] + distance * direction[0],
+                camera.position[1] + distance * direction[1],
+                0.0,
+            ];
+            if distance > 0.0
+                && world.iter().all(|v| v.is_finite())
+                && let Some(slot) = per_frame.get_mut(point.frame)
+            {
+                *slot = Some(world);
+            }
+        }
+        positions.push((name, per_frame));
+    }
+    Ok(PerceivedPositions {
+        positions,
+        frames_decoded: scene.frames_decoded,
+        detections: scene.detections,
+    })
+}
+
+/// Per bound object, its world position (units, on the `z = 0` plane) in each frame.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PerceivedPositions {
+    /// Annotated object name → position per frame (`None`: not seen in that frame).
+    pub positions: Vec<(String, Vec<Option<[f64; 3]>>)>,
+    /// Frames decoded.
+    pub frames_decoded: u64,
+    /// Frames run through the detector.
+    pub detections: u64,
+}
+
+/// A track bound to an annotated object: the object's name, the track, and the frame size.
+type BoundTrack = (String, Track, (u32, u32));
+
+/// Detects, names colours, tracks over the frames `choose(frame_count)` picks, and binds the
+/// tracks to annotated objects; returns the scene and the bound tracks with the frame size.
+fn perceive(
+    video_dir: &Path,
+    models: &PerceptionModels,
+    choose: impl FnOnce(usize) -> Vec<usize>,
+) -> Result<(PerceivedScene, Vec<BoundTrack>), ApiError> {
     let colors = ColorModel::read(&models.colors).map_err(unavailable)?;
     let mut detector =
         Detector::load(DetectorConfig::new(models.detector.clone(), 1)).map_err(unavailable)?;
@@ -75,22 +153,21 @@ pub(crate) fn perceive_rope(
             .map_err(|e| ApiError::Data(e.to_string()))?
     };
     let info = source.info().map_err(|e| ApiError::Data(e.to_string()))?;
-    let wanted: Vec<usize> = (0..=LAST_FRAME.min(info.frame_count.saturating_sub(1)))
-        .step_by(FRAME_STEP)
-        .collect();
-    let frames = source
-        .read(&wanted)
-        .map_err(|e| ApiError::Data(e.to_string()))?;
-    let mut scene = PerceivedScene {
-        frames_decoded: frames.len() as u64,
-        ..PerceivedScene::default()
-    };
-    let mut per_frame: Vec<(usize, Vec<Detection>)> = Vec::with_capacity(frames.len());
-    for frame in &frames {
-        let mut detections = detector.detect(frame).map_err(unavailable)?;
-        scene.detections += 1;
-        name_colors(frame, &mut detections, &colors);
-        per_frame.push((frame.index, detections));
+    let wanted = choose(info.frame_count);
+    let mut scene = PerceivedScene::default();
+    let mut per_frame: Vec<(usize, Vec<Detection>)> = Vec::with_capacity(wanted.len());
+    // Decode in batches so a whole video is never held in memory at once.
+    for batch in wanted.chunks(16) {
+        let frames = source
+            .read(batch)
+            .map_err(|e| ApiError::Data(e.to_string()))?;
+        scene.frames_decoded += frames.len() as u64;
+        for frame in &frames {
+            let mut detections = detector.detect(frame).map_err(unavailable)?;
+            scene.detections += 1;
+            name_colors(frame, &mut detections, &colors);
+            per_frame.push((frame.index, detections));
+        }
     }
     let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
     let records = SegmentationRecords::read(&video_dir.join("outputs.json"))?;
@@ -130,24 +207,32 @@ pub(crate) fn perceive_rope(
         let overlap = box_iou(seen, *annotated);
         (overlap >= MIN_BINDING_IOU).then_some(1.0 - overlap)
     });
+    let mut bound_tracks = Vec::new();
     for (t, bound) in binding.iter().enumerate() {
         match bound {
-            Some(n) => scene.objects.push((
-                names[*n].clone(),
-                PerceivedWords {
-                    color: tracks[t]
-                        .color
-                        .and_then(palette_color)
-                        .map(|c| c.name.to_lowercase())
-                        .unwrap_or_default(),
-                    class: tracks[t].class,
-                },
-            )),
+            Some(n) => {
+                bound_tracks.push((
+                    names[*n].clone(),
+                    tracks[t].clone(),
+                    (info.width, info.height),
+                ));
+                scene.objects.push((
+                    names[*n].clone(),
+                    PerceivedWords {
+                        color: tracks[t]
+                            .color
+                            .and_then(palette_color)
+                            .map(|c| c.name.to_lowercase())
+                            .unwrap_or_default(),
+                        class: tracks[t].class,
+                    },
+                ));
+            }
             None => scene.unbound_tracks += 1,
         }
     }
     scene.objects.sort_by(|a, b| a.0.cmp(&b.0));
-    Ok(scene)
+    Ok((scene, bound_tracks))
 }
 
 fn is_load(class: ObjectClass) -> bool {

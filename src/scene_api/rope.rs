@@ -17,23 +17,56 @@ use std::sync::{Mutex, OnceLock, PoisonError};
 
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::perceived::{PerceivedScene, perceive_rope};
+use super::perceived::{PerceivedScene, perceive_positions, perceive_rope};
 use super::rope_sim::{
     RopeMassInference, RopeOutcome, Run, infer_rope_masses, load_multiplier, simulate_rope,
 };
 use super::scene::{
-    DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
-    VideoSpec,
+    DynamicsBackend, EventAction, PerceptionBackend, PerceptionModels, Property, ScenarioBackend,
+    SceneEvent, Target, VideoSpec,
 };
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{
-    FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, parse_rope_object_name,
-    rope_world as world,
+    FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind,
+    parse_rope_object_name, rope_world as world,
 };
 use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
 
 /// The motion and rotation results of one dynamic scene (name → −1, 0, +1).
 type Outcomes = (IndexMap<String, i8>, IndexMap<String, i8>);
+
+/// Fewest frames a perceived track needs to stand for a body in mass inference.
+const MIN_PERCEIVED_FRAMES: usize = 30;
+
+/// A per-frame track with gaps filled: linearly between seen frames, the first seen position
+/// before it; it ends at the last seen frame.
+fn filled(track: &[Option<[f64; 3]>]) -> Vec<[f64; 3]> {
+    let seen: Vec<(usize, [f64; 3])> = track
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| p.map(|p| (i, p)))
+        .collect();
+    let (Some(first), Some(last)) = (seen.first(), seen.last()) else {
+        return Vec::new();
+    };
+    let mut out = Vec::with_capacity(last.0 + 1);
+    for frame in 0..=last.0 {
+        let after = seen.partition_point(|(i, _)| *i < frame);
+        let point = match (
+            after.checked_sub(1).and_then(|b| seen.get(b)),
+            seen.get(after),
+        ) {
+            (_, Some((i, p))) if *i == frame => *p,
+            (Some((i0, p0)), Some((i1, p1))) => {
+                let t = (frame - i0) as f64 / (i1 - i0) as f64;
+                [0, 1, 2].map(|c| p0[c] + t * (p1[c] - p0[c]))
+            }
+            _ => first.1,
+        };
+        out.push(point);
+    }
+    out
+}
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
@@ -61,7 +94,10 @@ pub(crate) struct RopeBackend {
     /// The masses inferred from the tracked motion (`Simulate`), on first use.
     inference: OnceLock<Result<RopeMassInference, ApiError>>,
     /// Frames decoded and run through the detector (`--perception maskrcnn`).
-    perception_work: (u64, u64),
+    perception_work: Mutex<(u64, u64)>,
+    /// The video folder and models of `--perception maskrcnn` (tracks for mass inference come
+    /// from the detector then).
+    perception: Option<(std::path::PathBuf, PerceptionModels)>,
 }
 
 impl RopeBackend {
@@ -76,6 +112,7 @@ impl RopeBackend {
         if spec.perception == PerceptionBackend::MaskRcnn {
             let perceived = perceive_rope(video_dir, &spec.models)?;
             backend.apply_perception(&perceived);
+            backend.perception = Some((video_dir.to_path_buf(), spec.models.clone()));
         }
         if dynamics == DynamicsBackend::Simulate {
             let path = video_dir.join("outputs4D.json");
@@ -148,7 +185,8 @@ impl RopeBackend {
             simulated: Mutex::new(BTreeMap::new()),
             simulation_work: Mutex::new((0, 0)),
             inference: OnceLock::new(),
-            perception_work: (0, 0),
+            perception_work: Mutex::new((0, 0)),
+            perception: None,
         })
     }
 
@@ -173,7 +211,11 @@ impl RopeBackend {
                 None => object.visible = false,
             }
         }
-        self.perception_work = (perceived.frames_decoded, perceived.detections);
+        *self
+            .perception_work
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) =
+            (perceived.frames_decoded, perceived.detections);
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
@@ -318,6 +360,14 @@ impl RopeBackend {
                         .to_string(),
                 )
             })?;
+            let perceived;
+            let four_d = match &self.perception {
+                Some((video_dir, models)) => {
+                    perceived = self.perceived_tracks(video_dir, models, four_d)?;
+                    &perceived
+                }
+                None => four_d,
+            };
             infer_rope_masses(&self.annotation, four_d).map_err(|error| {
                 ApiError::Unavailable(format!(
                     "cannot infer masses from this video's motion: {error}"
@@ -325,6 +375,54 @@ impl RopeBackend {
             })
         });
         inferred.as_ref().map_err(Clone::clone)
+    }
+
+    /// `four_d` with the moving bodies' tracks (loads, movable pulleys) replaced by the
+    /// detector's, lifted onto the scene plane; a body the detector did not follow through at
+    /// least [`MIN_PERCEIVED_FRAMES`] frames has no track. Gaps are filled linearly.
+    fn perceived_tracks(
+        &self,
+        video_dir: &std::path::Path,
+        models: &PerceptionModels,
+        four_d: &FourDData,
+    ) -> Result<FourDData, ApiError> {
+        let camera = self.annotation.camera.as_ref().ok_or_else(|| {
+            ApiError::Unavailable(
+                "perceived tracks need the camera record (outputCamera), which this video lacks"
+                    .to_string(),
+            )
+        })?;
+        let perceived = perceive_positions(video_dir, models, camera)?;
+        {
+            let mut work = self
+                .perception_work
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner);
+            work.0 += perceived.frames_decoded;
+            work.1 += perceived.detections;
+        }
+        let mut tracked = four_d.clone();
+        for (name, body) in &mut tracked.rigid_bodies {
+            let moving = matches!(
+                parse_rope_object_name(name).map(|p| p.kind),
+                Some(RopeObjectKind::Cube | RopeObjectKind::Sphere)
+            ) || name.contains("Dynamic Pulley");
+            if body.is_static || !moving {
+                continue;
+            }
+            let positions = perceived
+                .positions
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, p)| filled(p))
+                .unwrap_or_default();
+            body.poses = if positions.len() >= MIN_PERCEIVED_FRAMES {
+                positions.into_iter().map(|p| (p, [0.0; 3])).collect()
+            } else {
+                Vec::new()
+            };
+        }
+        Ok(tracked)
     }
 
     /// The loads a rope carries (`object_rope_map`), by annotation name.
@@ -458,7 +556,10 @@ impl ScenarioBackend for RopeBackend {
     }
 
     fn perception_work(&self) -> (u64, u64) {
-        self.perception_work
+        *self
+            .perception_work
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
     }
 
     fn objects(&self) -> &[SceneObjectInfo] {
@@ -636,6 +737,15 @@ mod tests {
     //! the green rope's group; making the purple cube lighter lifts it and turns the blue and gray
     //! pulleys clockwise and the pink pulley anti-clockwise (CounterFactualAnnotations 2.0).
     use super::*;
+
+    #[test]
+    fn perceived_tracks_are_filled_linearly_and_end_at_the_last_sighting() {
+        let p = |y: f64| Some([0.0, y, 0.0]);
+        let track = vec![None, p(1.0), None, None, p(4.0), p(5.0), None];
+        let heights: Vec<f64> = filled(&track).iter().map(|q| q[1]).collect();
+        assert_eq!(heights, vec![1.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert!(filled(&[None, None]).is_empty());
+    }
     use crate::dataset::{Scenario, VideoId};
     use crate::scene_api::{DynamicsBackend, PerceptionBackend, Scene, VideoSpec};
 
