@@ -7,11 +7,15 @@
 //! what `find` matches. Objects the detector misses are not findable, and a misread colour or
 //! class makes `find` return the wrong object or none, as in ContPRO.
 //!
-//! Binding a track to the mechanism the dynamics backends simulate still uses the release's
-//! first-frame 2-D boxes (one assignment by box overlap, kind against kind): the rope topology
-//! (which rope runs over which pulley) is not yet read from pixels. Input: a video folder and
-//! the model files. Output: per annotated object, its perceived words or `None` (not seen), and
-//! the work done.
+//! For mass and tension questions under `--dynamics simulate`, [`perceive_positions`] runs the
+//! detector on every frame and lifts each track's mask centroid onto the scene plane through the
+//! camera; mass inference then matches those tracks instead of the annotated 4-D ones.
+//!
+//! Binding a track to the mechanism the dynamics backends simulate still uses the release's 2-D
+//! boxes of the track's first frame (one assignment by box overlap, kind against kind): the rope
+//! topology (which rope runs over which pulley) is not yet read from pixels. Input: a video
+//! folder, the model files, the camera record. Output: per annotated object, its perceived words
+//! (objects not seen are absent) or its perceived positions, and the work done.
 
 use std::path::Path;
 
