@@ -24,7 +24,7 @@ use crate::perception::evaluation::{
     MATCH_IOU, TruthInstance, attribute_accuracy, box_average_precision, id_switches,
     mask_average_precision,
 };
-use crate::perception::frames::{FrameSource, RgbFrame};
+use crate::perception::frames::{FrameSource, RgbFrame, Stream};
 use crate::perception::tracking::{TrackerConfig, track};
 use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
 use crate::scene_api::{PerceptionBackend, PerceptionModels};
@@ -75,20 +75,12 @@ struct TruthVideo {
 }
 
 fn open_truth_video(video: &VideoFolder) -> Result<TruthVideo, AppError> {
-    let png_rgb = video.dir.join(crate::synth::video::RGB_FRAME_DIR);
-    let png_seg = video.dir.join(crate::synth::video::SEGMENTATION_FRAME_DIR);
-    let (rgb, segmentation, tolerance) = if png_rgb.is_dir() && png_seg.is_dir() {
-        (
-            FrameSource::PngFolder(png_rgb),
-            FrameSource::PngFolder(png_seg),
-            8,
-        )
-    } else {
-        (
-            FrameSource::open(&video.rgb_video()).user()?,
-            FrameSource::open(&video.segmentation_video()).user()?,
-            MP4_TOLERANCE,
-        )
+    let rgb = FrameSource::of_video(&video.dir, Stream::Rgb).user()?;
+    let segmentation = FrameSource::of_video(&video.dir, Stream::Segmentation).user()?;
+    // PNG folders are exact; mp4 colours arrive blurred.
+    let tolerance = match segmentation {
+        FrameSource::PngFolder(_) => 8,
+        FrameSource::Video(_) => MP4_TOLERANCE,
     };
     let records = SegmentationRecords::read(&video.outputs_json()).user()?;
     Ok(TruthVideo {
@@ -234,13 +226,11 @@ struct Timing {
     color_ms: f64,
 }
 
-/// One scored frame: its index, the detections and the truth.
-type ScoredFrame = (usize, Vec<Detection>, Vec<TruthInstance>);
-
-/// The detections and truth of every selected frame of every video.
-pub(super) struct PerceptionRun {
-    /// Per video: its id and its scored frames.
-    pub videos: Vec<(String, Vec<ScoredFrame>)>,
+/// One video's scored frames: detections and truth per frame index, in the same frame order.
+struct ScoredVideo {
+    id: String,
+    detections: Vec<(usize, Vec<Detection>)>,
+    truth: Vec<(usize, Vec<TruthInstance>)>,
 }
 
 /// `bench perception`.
@@ -253,7 +243,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
     .user()?;
     let videos = videos(&settings.data, &settings.frames)?;
     let mut timing = Timing::default();
-    let mut run = PerceptionRun { videos: Vec::new() };
+    let mut run: Vec<ScoredVideo> = Vec::new();
     let started = Instant::now();
     let mut release_size = None;
     for video in &videos {
@@ -263,7 +253,11 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         let rgb_frames = truth.rgb.read(&frames).user()?;
         timing.decode_ms += decode_started.elapsed().as_secs_f64() * 1e3;
         let seg_frames = truth.segmentation.read(&frames).user()?;
-        let mut per_frame = Vec::new();
+        let mut scored = ScoredVideo {
+            id: video.id.0.clone(),
+            detections: Vec::new(),
+            truth: Vec::new(),
+        };
         for (rgb, segmentation) in rgb_frames.iter().zip(&seg_frames) {
             if (rgb.width, rgb.height) != (segmentation.width, segmentation.height) {
                 return Err(user_error(format!(
@@ -284,16 +278,20 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
             timing.preprocess_ms += times.preprocess_ms;
             timing.inference_ms += times.inference_ms;
             timing.postprocess_ms += times.postprocess_ms;
-            per_frame.push((rgb.index, detections, truth_objects(&truth, segmentation)));
+            scored.detections.push((rgb.index, detections));
+            scored
+                .truth
+                .push((rgb.index, truth_objects(&truth, segmentation)));
         }
-        run.videos.push((video.id.0.clone(), per_frame));
+        run.push(scored);
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let metrics = score_run(&run)?;
+    let video_count = run.len();
+    let metrics = score_run(run)?;
     let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;
     let report = json!({
         "data": settings.data.display().to_string(),
-        "videos": run.videos.len(),
+        "videos": video_count,
         "frames": timing.frames,
         "frame_size": release_size.map(|(w, h)| format!("{w}x{h}")),
         "model_input": format!("{}x{}", detector.config().input_width, detector.config().input_height),
@@ -320,7 +318,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
 
 /// AP@0.5 (mask and box), attribute accuracy and tracking identity over a run, per video
 /// summed (tracks are per video).
-fn score_run(run: &PerceptionRun) -> Result<serde_json::Value, AppError> {
+fn score_run(run: Vec<ScoredVideo>) -> Result<serde_json::Value, AppError> {
     let mut all_detections = Vec::new();
     let mut all_truth = Vec::new();
     let mut identity = Vec::new();
@@ -328,16 +326,13 @@ fn score_run(run: &PerceptionRun) -> Result<serde_json::Value, AppError> {
     let mut truth_instances = 0usize;
     let mut mostly_tracked = 0usize;
     // Frames of different videos are numbered apart so one list can hold them all.
-    for (video_index, (video_id, frames)) in run.videos.iter().enumerate() {
+    for (video_index, video) in run.into_iter().enumerate() {
         let offset = video_index * 1_000_000;
-        let detections: Vec<(usize, Vec<Detection>)> = frames
-            .iter()
-            .map(|(frame, found, _)| (*frame, found.clone()))
-            .collect();
-        let truth: Vec<(usize, Vec<TruthInstance>)> = frames
-            .iter()
-            .map(|(frame, _, objects)| (*frame, objects.clone()))
-            .collect();
+        let ScoredVideo {
+            id: video_id,
+            detections,
+            truth,
+        } = video;
         let tracks = track(&detections, &TrackerConfig::default()).internal()?;
         let report = id_switches(&tracks, &detections, &truth).internal()?;
         switches += report.switches;

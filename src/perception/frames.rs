@@ -170,7 +170,40 @@ fn spawn(
     })
 }
 
+/// The PNG folder of a video's RGB frames, relative to its folder (the paper's extracted-frame
+/// layout; the generator writes it).
+pub const RGB_FRAME_DIR: &str = "frames/output_Full_ori";
+/// The PNG folder of a video's segmentation frames, relative to its folder.
+pub const SEGMENTATION_FRAME_DIR: &str = "frames/output_Full_seg";
+/// A video folder's RGB mp4 (the release's name).
+pub const RGB_VIDEO_FILE: &str = "output_Full.mp4";
+/// A video folder's segmentation mp4.
+pub const SEGMENTATION_VIDEO_FILE: &str = "output_Full_seg.mp4";
+
+/// Which of a video folder's two frame streams.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stream {
+    /// The rendered RGB frames.
+    Rgb,
+    /// The instance-segmentation frames.
+    Segmentation,
+}
+
 impl FrameSource {
+    /// A video folder's `stream`: its PNG folder when there is one (lossless, no decoding),
+    /// else its mp4.
+    pub fn of_video(video_dir: &Path, stream: Stream) -> Result<FrameSource, FramesError> {
+        let (folder, file) = match stream {
+            Stream::Rgb => (RGB_FRAME_DIR, RGB_VIDEO_FILE),
+            Stream::Segmentation => (SEGMENTATION_FRAME_DIR, SEGMENTATION_VIDEO_FILE),
+        };
+        let png = video_dir.join(folder);
+        if png.is_dir() {
+            return Ok(FrameSource::PngFolder(png));
+        }
+        FrameSource::open(&video_dir.join(file))
+    }
+
     /// The source at `path`: a folder of PNGs or a video file.
     pub fn open(path: &Path) -> Result<FrameSource, FramesError> {
         if path.is_dir() {

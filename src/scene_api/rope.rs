@@ -17,13 +17,13 @@ use std::sync::{Mutex, OnceLock, PoisonError};
 
 use super::error::{ApiError, misuse};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::perceived::{PerceivedScene, perceive_positions, perceive_rope};
+use super::perceived::{PerceivedScene, Perceiver};
 use super::rope_sim::{
     RopeMassInference, RopeOutcome, Run, infer_rope_masses, load_multiplier, simulate_rope,
 };
 use super::scene::{
-    DynamicsBackend, EventAction, PerceptionBackend, PerceptionModels, Property, ScenarioBackend,
-    SceneEvent, Target, VideoSpec,
+    DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
+    VideoSpec,
 };
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{
@@ -93,11 +93,9 @@ pub(crate) struct RopeBackend {
     simulation_work: Mutex<(u64, u64)>,
     /// The masses inferred from the tracked motion (`Simulate`), on first use.
     inference: OnceLock<Result<RopeMassInference, ApiError>>,
-    /// Frames decoded and run through the detector (`--perception maskrcnn`).
-    perception_work: Mutex<(u64, u64)>,
-    /// The video folder and models of `--perception maskrcnn` (tracks for mass inference come
-    /// from the detector then).
-    perception: Option<(std::path::PathBuf, PerceptionModels)>,
+    /// The video as the detector sees it (`--perception maskrcnn`): it named the objects, and
+    /// its tracks stand for the annotated ones in mass inference.
+    perceiver: Option<Mutex<Perceiver>>,
 }
 
 impl RopeBackend {
@@ -110,9 +108,9 @@ impl RopeBackend {
         let dynamics = spec.dynamics;
         backend.dynamics = dynamics;
         if spec.perception == PerceptionBackend::MaskRcnn {
-            let perceived = perceive_rope(video_dir, &spec.models)?;
-            backend.apply_perception(&perceived);
-            backend.perception = Some((video_dir.to_path_buf(), spec.models.clone()));
+            let mut perceiver = Perceiver::open(video_dir, &spec.models)?;
+            backend.apply_perception(&perceiver.scene()?);
+            backend.perceiver = Some(Mutex::new(perceiver));
         }
         if dynamics == DynamicsBackend::Simulate {
             let path = video_dir.join("outputs4D.json");
@@ -185,8 +183,7 @@ impl RopeBackend {
             simulated: Mutex::new(BTreeMap::new()),
             simulation_work: Mutex::new((0, 0)),
             inference: OnceLock::new(),
-            perception_work: Mutex::new((0, 0)),
-            perception: None,
+            perceiver: None,
         })
     }
 
@@ -211,11 +208,6 @@ impl RopeBackend {
                 None => object.visible = false,
             }
         }
-        *self
-            .perception_work
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner) =
-            (perceived.frames_decoded, perceived.detections);
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
@@ -361,9 +353,9 @@ impl RopeBackend {
                 )
             })?;
             let perceived;
-            let four_d = match &self.perception {
-                Some((video_dir, models)) => {
-                    perceived = self.perceived_tracks(video_dir, models, four_d)?;
+            let four_d = match &self.perceiver {
+                Some(perceiver) => {
+                    perceived = self.perceived_tracks(perceiver, four_d)?;
                     &perceived
                 }
                 None => four_d,
@@ -382,8 +374,7 @@ impl RopeBackend {
     /// least [`MIN_PERCEIVED_FRAMES`] frames has no track. Gaps are filled linearly.
     fn perceived_tracks(
         &self,
-        video_dir: &std::path::Path,
-        models: &PerceptionModels,
+        perceiver: &Mutex<Perceiver>,
         four_d: &FourDData,
     ) -> Result<FourDData, ApiError> {
         let camera = self.annotation.camera.as_ref().ok_or_else(|| {
@@ -392,26 +383,20 @@ impl RopeBackend {
                     .to_string(),
             )
         })?;
-        let perceived = perceive_positions(video_dir, models, camera)?;
-        {
-            let mut work = self
-                .perception_work
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner);
-            work.0 += perceived.frames_decoded;
-            work.1 += perceived.detections;
-        }
+        let perceived = perceiver
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .positions(camera)?;
         let mut tracked = four_d.clone();
         for (name, body) in &mut tracked.rigid_bodies {
-            let moving = matches!(
-                parse_rope_object_name(name).map(|p| p.kind),
-                Some(RopeObjectKind::Cube | RopeObjectKind::Sphere)
-            ) || name.contains("Dynamic Pulley");
+            let moving = parse_rope_object_name(name).is_some_and(|p| {
+                matches!(p.kind, RopeObjectKind::Cube | RopeObjectKind::Sphere)
+                    || (p.kind == RopeObjectKind::Pulley && p.dynamics == "dynamic")
+            });
             if body.is_static || !moving {
                 continue;
             }
             let positions = perceived
-                .positions
                 .iter()
                 .find(|(n, _)| n == name)
                 .map(|(_, p)| filled(p))
@@ -556,10 +541,12 @@ impl ScenarioBackend for RopeBackend {
     }
 
     fn perception_work(&self) -> (u64, u64) {
-        *self
-            .perception_work
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
+        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
+            perceiver
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .work()
+        })
     }
 
     fn objects(&self) -> &[SceneObjectInfo] {

@@ -34,10 +34,9 @@ impl FrameOutput {
     }
 }
 
-/// The PNG folder of the RGB frames, relative to a video folder.
-pub const RGB_FRAME_DIR: &str = "frames/output_Full_ori";
-/// The PNG folder of the segmentation frames, relative to a video folder.
-pub const SEGMENTATION_FRAME_DIR: &str = "frames/output_Full_seg";
+use crate::perception::frames::{
+    RGB_FRAME_DIR, RGB_VIDEO_FILE, SEGMENTATION_FRAME_DIR, SEGMENTATION_VIDEO_FILE,
+};
 
 /// An mp4 being encoded.
 struct Encoder {
@@ -170,8 +169,8 @@ impl FrameSink {
         }
         let encoders = if output.mp4() {
             Some((
-                Encoder::start(&dir.join("output_Full.mp4"), width, height)?,
-                Encoder::start(&dir.join("output_Full_seg.mp4"), width, height)?,
+                Encoder::start(&dir.join(RGB_VIDEO_FILE), width, height)?,
+                Encoder::start(&dir.join(SEGMENTATION_VIDEO_FILE), width, height)?,
             ))
         } else {
             None
