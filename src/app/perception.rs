@@ -27,6 +27,7 @@ use crate::perception::evaluation::{
 use crate::perception::frames::{FrameSource, RgbFrame, Stream};
 use crate::perception::tracking::{TrackerConfig, track};
 use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
+use crate::scene_api::{MATCH_RADIUS, MechanismCheck, check_rope_mechanism};
 use crate::scene_api::{PerceptionBackend, PerceptionModels};
 
 /// Which frames of each video are used.
@@ -288,6 +289,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
     let wall_s = started.elapsed().as_secs_f64();
     let video_count = run.len();
     let metrics = score_run(run)?;
+    let mechanism = check_mechanisms(&videos, settings)?;
     let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;
     let report = json!({
         "data": settings.data.display().to_string(),
@@ -306,6 +308,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         "frames_per_second": timing.frames as f64 / wall_s.max(1e-9),
         "peak_rss_mib": peak_rss_mib(),
         "metrics": metrics,
+        "mechanism": mechanism,
     });
     let mut stdout = std::io::stdout().lock();
     let _ = writeln!(
@@ -314,6 +317,44 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         serde_json::to_string_pretty(&report).unwrap_or_default()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The rope mechanism read from pixels against the annotated one, per video and summed
+/// (`scene_api::check_rope_mechanism`); the first-pass frames are detected again for it.
+fn check_mechanisms(
+    videos: &[VideoFolder],
+    settings: &BenchPerceptionSettings,
+) -> Result<serde_json::Value, AppError> {
+    let models = PerceptionModels {
+        detector: settings.model.clone(),
+        colors: settings.colors.clone(),
+    };
+    let mut total = MechanismCheck::default();
+    let mut per_video = Vec::new();
+    let mut error_sum = 0.0;
+    let mut all_right = 0;
+    for video in videos {
+        let check = check_rope_mechanism(&video.dir, &models)
+            .map_err(|error| user_error(format!("video {}: {error}", video.dir.display())))?;
+        total.elements += check.elements;
+        total.elements_found += check.elements_found;
+        total.ropes += check.ropes;
+        total.ropes_read += check.ropes_read;
+        total.ropes_read_with_turns += check.ropes_read_with_turns;
+        total.extra_ropes += check.extra_ropes;
+        error_sum += check.mean_position_error * check.elements_found as f64;
+        if check.ropes_read_with_turns == check.ropes && check.extra_ropes == 0 {
+            all_right += 1;
+        }
+        per_video.push(json!({"video": video.id.0, "check": check}));
+    }
+    total.mean_position_error = error_sum / total.elements_found.max(1) as f64;
+    Ok(json!({
+        "match_radius_units": MATCH_RADIUS,
+        "total": total,
+        "videos_read_entirely": all_right,
+        "per_video": per_video,
+    }))
 }
 
 /// AP@0.5 (mask and box), attribute accuracy and tracking identity over a run, per video

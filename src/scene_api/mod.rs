@@ -10,14 +10,18 @@
 //! ([`WorkCounters`]) so a prediction can show what it cost (DESIGN.md §2).
 
 mod error;
+mod mechanism_check;
 mod object;
 mod perceived;
+mod perceived_rope;
 mod rope;
 pub mod rope_sim;
+mod rope_topology;
 mod scene;
 mod vocabulary;
 
 pub use error::ApiError;
+pub use mechanism_check::{MATCH_RADIUS, MechanismCheck, check_rope_mechanism};
 pub use object::{ObjectId, SceneObjectInfo};
 pub use scene::{
     DynamicsBackend, EventAction, PerceptionBackend, PerceptionModels, Property, Scene, SceneEvent,

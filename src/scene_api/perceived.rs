@@ -7,15 +7,19 @@
 //! what `find` matches. Objects the detector misses are not findable, and a misread colour or
 //! class makes `find` return the wrong object or none, as in ContPRO.
 //!
-//! For mass and tension questions under `--dynamics simulate`, [`Perceiver::positions`] runs
-//! the detector on every frame (reusing the frames the object list was read from) and lifts each track's mask centroid onto the scene plane through the
-//! camera; mass inference then matches those tracks instead of the annotated 4-D ones.
+//! Under `--dynamics simulate` (ContPRO) the mechanism itself is read from pixels
+//! ([`Perceiver::mechanism`], `perceived_rope`): objects named from their tracks, rope paths from
+//! the rope masks and colours, positions lifted through the camera calibration; no other
+//! annotation is read. Under `--dynamics annotation` (the oracle dynamics, whose recorded results
+//! are keyed by the release's names) the first pass's tracks are bound to the annotated objects
+//! by box overlap ([`Perceiver::scene`]).
 //!
-//! Binding a track to the mechanism the dynamics backends simulate still uses the release's 2-D
-//! boxes of the track's first frame (one assignment by box overlap, kind against kind): the rope
-//! topology (which rope runs over which pulley) is not yet read from pixels. Input: a video
-//! folder, the model files, the camera record. Output: per annotated object, its perceived words
-//! (objects not seen are absent) or its perceived positions, and the work done.
+//! For mass and tension questions, [`Perceiver::positions`] runs the detector on every frame
+//! (reusing the first pass's frames), gives each track the name of the first-pass track it shares
+//! detections with, and lifts its mask centroids onto the scene plane; mass inference matches
+//! those tracks. Input: a video folder, the model files, the camera calibration. Output: the
+//! perceived mechanism, or per annotated object its perceived words, or per named object its
+//! perceived positions, and the work done.
 //!
 //! The models are loaded once per process and shared by every scene in it (one ONNX Runtime
 //! session per sandbox worker, not one per video).
@@ -25,6 +29,7 @@ use std::path::Path;
 use std::sync::{Mutex, PoisonError};
 
 use super::error::ApiError;
+use super::perceived_rope::{PerceivedRope, lift, perceive_rope};
 use super::scene::PerceptionModels;
 use crate::dataset::{Camera, SegmentationRecords};
 use crate::perception::assignment::assign;
@@ -91,32 +96,37 @@ fn with_models<T>(
     }
 }
 
-/// One video as the detector sees it: its frames and annotated boxes, read once per scene, and
-/// the detections the object list was read from.
+/// One video as the detector sees it: its frames, read once per scene, the first pass's
+/// detections and tracks, and the name each of those tracks stands for.
 pub(crate) struct Perceiver {
     models: PerceptionModels,
+    video_dir: std::path::PathBuf,
     source: FrameSource,
     info: VideoInfo,
-    records: SegmentationRecords,
-    /// Detections of the frames [`Perceiver::scene`] ran, reused by [`Perceiver::positions`].
+    /// Detections of the first pass (frames 0, 10, …, 60), reused by [`Perceiver::positions`].
     kept: BTreeMap<usize, Vec<Detection>>,
+    /// The first pass's tracks (empty until it ran).
+    first: Vec<Track>,
+    /// Per first-pass track, the object it stands for.
+    names: Vec<Option<String>>,
     /// Frames decoded and run through the detector so far.
     work: (u64, u64),
 }
 
 impl Perceiver {
-    /// Opens the video's frames and its annotated boxes; runs nothing yet.
+    /// Opens the video's frames; runs nothing yet.
     pub(crate) fn open(video_dir: &Path, models: &PerceptionModels) -> Result<Self, ApiError> {
         let source = FrameSource::of_video(video_dir, Stream::Rgb)
             .map_err(|e| ApiError::Data(e.to_string()))?;
         let info = source.info().map_err(|e| ApiError::Data(e.to_string()))?;
-        let records = SegmentationRecords::read(&video_dir.join("outputs.json"))?;
         Ok(Perceiver {
             models: models.clone(),
+            video_dir: video_dir.to_path_buf(),
             source,
             info,
-            records,
             kept: BTreeMap::new(),
+            first: Vec::new(),
+            names: Vec::new(),
             work: (0, 0),
         })
     }
@@ -126,20 +136,37 @@ impl Perceiver {
         self.work
     }
 
-    /// The objects of the video: the detector on frames 0, 10, …, 60, tracks bound to the
-    /// annotated objects.
-    pub(crate) fn scene(&mut self) -> Result<PerceivedScene, ApiError> {
-        let wanted: Vec<usize> = (0..=LAST_FRAME.min(self.info.frame_count.saturating_sub(1)))
+    /// Frames of the first pass: 0, 10, …, 60 (those the video has).
+    fn first_frames(&self) -> Vec<usize> {
+        (0..=LAST_FRAME.min(self.info.frame_count.saturating_sub(1)))
             .step_by(FRAME_STEP)
-            .collect();
+            .collect()
+    }
+
+    /// Runs the first pass once: the detector on frames 0, 10, …, 60, and the tracks.
+    fn first_pass(&mut self) -> Result<(), ApiError> {
+        if !self.kept.is_empty() || self.info.frame_count == 0 {
+            return Ok(());
+        }
+        let wanted = self.first_frames();
         let per_frame = self.detect(&wanted)?;
-        self.kept = per_frame.iter().cloned().collect();
-        let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
+        self.first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
+        self.kept = per_frame.into_iter().collect();
+        Ok(())
+    }
+
+    /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose
+    /// recorded results are keyed by the release's names: the first pass's tracks bound to the
+    /// annotated objects by box overlap.
+    pub(crate) fn scene(&mut self) -> Result<PerceivedScene, ApiError> {
+        self.first_pass()?;
+        let records = SegmentationRecords::read(&self.video_dir.join("outputs.json"))?;
+        self.names = bind_to_annotation(&self.first, &self.first_frames(), &records);
         let mut scene = PerceivedScene::default();
-        for (track, name) in tracks.iter().zip(self.bind(&tracks, &wanted)) {
+        for (track, name) in self.first.iter().zip(&self.names) {
             match name {
                 Some(name) => scene.objects.push((
-                    name,
+                    name.clone(),
                     PerceivedWords {
                         color: track
                             .color
@@ -156,10 +183,42 @@ impl Perceiver {
         Ok(scene)
     }
 
-    /// The world positions of the bound objects in every frame of the video: the detector runs
-    /// on all frames, and each track's mask centroid is lifted onto the scene plane (`z = 0`,
-    /// where the release lays out every rope scene) along the camera's viewing ray.
+    /// The mechanism as seen (`--dynamics simulate`): objects named from their tracks, rope
+    /// paths read from the rope masks, positions lifted through the camera (`perceived_rope`).
+    pub(crate) fn mechanism(&mut self, camera: &Camera) -> Result<PerceivedRope, ApiError> {
+        self.first_pass()?;
+        // The first frame again, for the ropes' colours (one decode; the first pass keeps only
+        // detections).
+        let frame = match self.first_frames().first() {
+            Some(&first) => {
+                let mut frames = self
+                    .source
+                    .read(&[first])
+                    .map_err(|e| ApiError::Data(e.to_string()))?;
+                self.work.0 += frames.len() as u64;
+                frames.pop()
+            }
+            None => None,
+        };
+        let perceived = perceive_rope(
+            &self.first,
+            &self.kept,
+            (self.info.width, self.info.height),
+            frame.as_ref(),
+            camera,
+            self.info.frame_count,
+        );
+        self.names.clone_from(&perceived.names);
+        Ok(perceived)
+    }
+
+    /// The world positions of the named objects in every frame of the video: the detector runs
+    /// on all frames, each track takes the name of the first-pass track it shares most
+    /// detections with (the first pass's detections are reused, so they coincide), and its mask
+    /// centroids are lifted onto the scene plane (`z = 0`, where the release lays out every
+    /// rope scene) along the camera's viewing rays.
     pub(crate) fn positions(&mut self, camera: &Camera) -> Result<PerceivedPositions, ApiError> {
+        self.first_pass()?;
         let wanted: Vec<usize> = (0..self.info.frame_count).collect();
         let per_frame = self.detect(&wanted)?;
         let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
@@ -171,28 +230,17 @@ impl Perceiver {
             self.info.height,
         );
         let mut positions = Vec::new();
-        for (track, name) in tracks.iter().zip(self.bind(&tracks, &wanted)) {
-            let Some(name) = name else {
+        for (track, first) in tracks.iter().zip(assign_to_first(&tracks, &self.first)) {
+            let Some(name) = first.and_then(|f| self.names.get(f).cloned().flatten()) else {
                 continue;
             };
             let last = track.last_frame().unwrap_or(0);
             let mut per_frame = vec![None; last + 1];
             for point in &track.observations {
-                let direction = model.ray(point.centroid[0], point.centroid[1]);
-                if direction[2].abs() < 1e-9 {
-                    continue;
-                }
-                let distance = -camera.position[2] / direction[2];
-                let world = [
-                    camera.position[0] + distance * direction[0],
-                    camera.position[1] + distance * direction[1],
-                    0.0,
-                ];
-                if distance > 0.0
-                    && world.iter().all(|v| v.is_finite())
+                if let Some(world) = lift(&model, camera, point.centroid[0], point.centroid[1])
                     && let Some(slot) = per_frame.get_mut(point.frame)
                 {
-                    *slot = Some(world);
+                    *slot = Some([world[0], world[1], 0.0]);
                 }
             }
             positions.push((name, per_frame));
@@ -233,51 +281,72 @@ impl Perceiver {
             })
             .collect())
     }
+}
 
-    /// The annotated object each track stands for, by box overlap with the annotated boxes of
-    /// the track's first frame (kind against kind; one track per object).
-    fn bind(&self, tracks: &[Track], wanted: &[usize]) -> Vec<Option<String>> {
-        let records = &self.records;
-        let candidates: Vec<(String, ObjectClass, usize, [f64; 4])> = records
-            .boxes
-            .iter()
-            .filter(|(frame, _)| wanted.binary_search(frame).is_ok())
-            .flat_map(|(frame, boxes)| {
-                boxes.iter().filter_map(|(id, bbox)| {
-                    let name = records.names.get(id)?;
-                    let class = ObjectClass::from_object_name(name)?;
-                    Some((name.clone(), class, *frame, *bbox))
-                })
+/// The annotated object each track stands for, by box overlap with the annotated boxes of the
+/// track's first frame (kind against kind; one track per object).
+fn bind_to_annotation(
+    tracks: &[Track],
+    wanted: &[usize],
+    records: &SegmentationRecords,
+) -> Vec<Option<String>> {
+    let candidates: Vec<(String, ObjectClass, usize, [f64; 4])> = records
+        .boxes
+        .iter()
+        .filter(|(frame, _)| wanted.binary_search(frame).is_ok())
+        .flat_map(|(frame, boxes)| {
+            boxes.iter().filter_map(|(id, bbox)| {
+                let name = records.names.get(id)?;
+                let class = ObjectClass::from_object_name(name)?;
+                Some((name.clone(), class, *frame, *bbox))
             })
-            .collect();
-        let mut names: Vec<String> = candidates.iter().map(|c| c.0.clone()).collect();
-        names.sort();
-        names.dedup();
-        let firsts: Vec<Option<(usize, [f64; 4])>> = tracks
-            .iter()
-            .map(|t| {
-                t.observations
-                    .first()
-                    .map(|p| (p.frame, p.bbox.map(f64::from)))
-            })
-            .collect();
-        assign(tracks.len(), names.len(), |t, n| {
-            let (frame, seen) = firsts[t]?;
-            let (_, class, _, annotated) = candidates
-                .iter()
-                .find(|c| c.0 == names[n] && c.2 == frame)?;
-            if class.kind() != tracks[t].class.kind()
-                && !(is_load(*class) && is_load(tracks[t].class))
-            {
-                return None;
-            }
-            let overlap = box_iou(seen, *annotated);
-            (overlap >= MIN_BINDING_IOU).then_some(1.0 - overlap)
         })
-        .into_iter()
-        .map(|bound| bound.map(|n| names[n].clone()))
-        .collect()
-    }
+        .collect();
+    let mut names: Vec<String> = candidates.iter().map(|c| c.0.clone()).collect();
+    names.sort();
+    names.dedup();
+    let firsts: Vec<Option<(usize, [f64; 4])>> = tracks
+        .iter()
+        .map(|t| {
+            t.observations
+                .first()
+                .map(|p| (p.frame, p.bbox.map(f64::from)))
+        })
+        .collect();
+    assign(tracks.len(), names.len(), |t, n| {
+        let (frame, seen) = firsts[t]?;
+        let (_, class, _, annotated) = candidates
+            .iter()
+            .find(|c| c.0 == names[n] && c.2 == frame)?;
+        if class.kind() != tracks[t].class.kind() && !(is_load(*class) && is_load(tracks[t].class))
+        {
+            return None;
+        }
+        let overlap = box_iou(seen, *annotated);
+        (overlap >= MIN_BINDING_IOU).then_some(1.0 - overlap)
+    })
+    .into_iter()
+    .map(|bound| bound.map(|n| names[n].clone()))
+    .collect()
+}
+
+/// Per track of the full pass, the first-pass track it shares most detections with (the first
+/// pass's detections are reused, so a track through frames 0–60 contains them); `None` for
+/// tracks that share none.
+fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
+    let shared = |a: &Track, b: &Track| {
+        a.observations
+            .iter()
+            .filter(|p| {
+                b.at_frame(p.frame)
+                    .is_some_and(|q| q.detection == p.detection)
+            })
+            .count()
+    };
+    assign(tracks.len(), first.len(), |t, f| {
+        let count = shared(&tracks[t], &first[f]);
+        (count > 0).then(|| 1.0 / count as f64)
+    })
 }
 
 fn is_load(class: ObjectClass) -> bool {

@@ -96,6 +96,9 @@ pub(crate) struct RopeBackend {
     /// The video as the detector sees it (`--perception maskrcnn`): it named the objects, and
     /// its tracks stand for the annotated ones in mass inference.
     perceiver: Option<Mutex<Perceiver>>,
+    /// Whether the annotation itself was read from pixels (`--perception maskrcnn --dynamics
+    /// simulate`): then it records no masses, and the factual run takes the inferred ones.
+    perceived_mechanism: bool,
 }
 
 impl RopeBackend {
@@ -109,6 +112,24 @@ impl RopeBackend {
         backend.dynamics = dynamics;
         if spec.perception == PerceptionBackend::MaskRcnn {
             let mut perceiver = Perceiver::open(video_dir, &spec.models)?;
+            if dynamics == DynamicsBackend::Simulate {
+                // ContPRO: the mechanism itself comes from pixels; of the annotations only the
+                // camera calibration is read.
+                let camera = backend.annotation.camera.clone().ok_or_else(|| {
+                    ApiError::Unavailable(
+                        "perception needs the camera calibration (outputCamera), which this video lacks"
+                            .to_string(),
+                    )
+                })?;
+                let perceived = perceiver.mechanism(&camera)?;
+                let mut seen = RopeBackend::new(perceived.annotation, &spec.video_id)?;
+                seen.add_unattached(&perceived.unattached);
+                seen.dynamics = dynamics;
+                seen.four_d = Some(perceived.four_d);
+                seen.perceived_mechanism = true;
+                seen.perceiver = Some(Mutex::new(perceiver));
+                return Ok(seen);
+            }
             backend.apply_perception(&perceiver.scene()?);
             backend.perceiver = Some(Mutex::new(perceiver));
         }
@@ -184,7 +205,31 @@ impl RopeBackend {
             simulation_work: Mutex::new((0, 0)),
             inference: OnceLock::new(),
             perceiver: None,
+            perceived_mechanism: false,
         })
+    }
+
+    /// Adds objects perception saw on no rope it could read: findable by their words, outside
+    /// the mechanism.
+    fn add_unattached(&mut self, names: &[String]) {
+        for name in names {
+            let Some(parsed) = parse_rope_object_name(name) else {
+                continue;
+            };
+            let id = ObjectId(u32::try_from(self.objects.len()).unwrap_or(u32::MAX));
+            self.objects.push(SceneObjectInfo {
+                id,
+                name: name.clone(),
+                color: parsed.color.clone(),
+                kind: parsed.kind.word().to_string(),
+                shape: parsed.pulley_shape.clone(),
+                dynamics: parsed.dynamics.clone(),
+                grid: parsed.grid,
+                visible: true,
+            });
+            self.rope_group.push(None);
+            self.tension_n.push(None);
+        }
     }
 
     /// Replaces the objects' words with what perception saw; objects it did not see are hidden
@@ -279,6 +324,9 @@ impl RopeBackend {
             return Ok((done.motion.clone(), done.rotation.clone()));
         }
         let (masses, run) = match event.action {
+            EventAction::Simulate if self.perceived_mechanism => {
+                (self.inferred_masses()?, Run::Factual)
+            }
             EventAction::Simulate => (self.annotation.output_mass_kg.clone(), Run::Factual),
             EventAction::Increase | EventAction::Decrease => {
                 let load = self.info(
@@ -339,6 +387,22 @@ impl RopeBackend {
             .map(|name| {
                 let multiplier = load_multiplier(&self.annotation, name);
                 (name.clone(), world::BASELINE_MASS_KG * multiplier)
+            })
+            .collect()
+    }
+
+    /// Every load's mass as inferred from the motion, for the factual run of a perceived
+    /// mechanism; unavailable unless the motion determines each one.
+    fn inferred_masses(&self) -> Result<IndexMap<String, f64>, ApiError> {
+        let inference = self.mass_inference()?;
+        self.annotation
+            .output_mass_kg
+            .keys()
+            .map(|load| match inference.load(load) {
+                Some(BodyVerdict::Determined { mass }) => Ok((load.clone(), *mass)),
+                _ => Err(ApiError::Unavailable(format!(
+                    "the factual run needs every load's mass, and the motion does not determine the {load}'s"
+                ))),
             })
             .collect()
     }

@@ -113,13 +113,15 @@ enum Kind {
 }
 
 fn kind_of(name: &str) -> Option<Kind> {
+    // A grid id may follow (`Red Cube (1 4)`, perception's name for a second red cube).
+    let words = name.split_once(" (").map_or(name, |(head, _)| head);
     if name.contains("Static Pulley") {
         Some(Kind::StaticPulley)
     } else if name.contains("Dynamic Pulley") {
         Some(Kind::MovablePulley)
     } else if name.contains("Fixed Point") {
         Some(Kind::Anchor)
-    } else if name.ends_with("Cube") || name.ends_with("Sphere") {
+    } else if words.ends_with("Cube") || words.ends_with("Sphere") {
         Some(Kind::Load)
     } else {
         None
@@ -429,6 +431,56 @@ impl RopeOutcome {
             steps: self.steps,
         }
     }
+}
+
+/// A rope's name, the names of the elements it runs through, and its turn at each.
+pub(crate) type RopeLayoutPath = (String, Vec<String>, Vec<Option<Turn>>);
+
+/// Each rope's path as the simulator builds it: element names in order, and the turn at each
+/// (`None` at ends and where the particles do not tell).
+pub(crate) fn rope_paths(
+    annotation: &RopeAnnotation,
+    four_d: Option<&FourDData>,
+) -> Result<Vec<RopeLayoutPath>, RopeSimulationError> {
+    let placeholders: IndexMap<String, f64> = annotation
+        .related_groups_in_rope
+        .iter()
+        .flat_map(|group| group.values().flatten())
+        .filter(|name| kind_of(name) == Some(Kind::Load))
+        .map(|name| (name.clone(), world::BASELINE_MASS_KG))
+        .collect();
+    let built = build(annotation, four_d, &placeholders)?;
+    let network = &built.network;
+    Ok(network
+        .ropes
+        .iter()
+        .enumerate()
+        .map(|(index, rope)| {
+            let names = rope
+                .path
+                .iter()
+                .map(|point| match *point {
+                    Point::Body(body) => network.bodies.get(body).map(|b| b.name.clone()),
+                    Point::Pulley(pulley) => network.pulleys.get(pulley).map(|p| p.name.clone()),
+                    Point::Fixed(at) => built
+                        .anchors
+                        .iter()
+                        .find(|name| annotation.element_positions.get(*name) == Some(&at))
+                        .cloned(),
+                })
+                .map(Option::unwrap_or_default)
+                .collect();
+            let mut turns = vec![None; rope.path.len()];
+            for (rope_index, position, turn) in &network.turns {
+                if *rope_index == index
+                    && let Some(slot) = turns.get_mut(*position)
+                {
+                    *slot = Some(*turn);
+                }
+            }
+            (rope.name.clone(), names, turns)
+        })
+        .collect())
 }
 
 /// Simulates the rope video's `run` with the load masses `masses` (kg) and reads off the

@@ -434,3 +434,29 @@ fn a_resume_with_other_perception_models_is_refused() {
     );
     assert!(crate::support::stderr(&output).contains("different settings or data"));
 }
+
+#[test]
+fn the_real_videos_mechanism_is_read_from_its_pixels() {
+    if !need_runtime() || !crate::frames::need_ffmpeg() {
+        return;
+    }
+    // Hand-checked against the annotation: 8 elements on 2 ropes; the purple rope runs from
+    // the purple cube over the blue, gray and pink pulleys to the green cube, the green rope
+    // from the pink sphere over the purple pulley to the brown fixed point.
+    let root = crate::support::root();
+    let models = contphy_eval::scene_api::PerceptionModels {
+        detector: root.join("models/maskrcnn-rope.onnx"),
+        colors: root.join("models/color-model.json"),
+    };
+    let check = contphy_eval::scene_api::check_rope_mechanism(
+        &root.join("eval/demo/pulley_group/0"),
+        &models,
+    )
+    .unwrap();
+    assert_eq!(check.elements, 8, "{check:?}");
+    assert_eq!(check.elements_found, 8, "{check:?}");
+    assert!(check.mean_position_error < 0.5, "{check:?}");
+    assert_eq!(check.ropes, 2, "{check:?}");
+    assert_eq!(check.ropes_read_with_turns, 2, "{check:?}");
+    assert_eq!(check.extra_ropes, 0, "{check:?}");
+}

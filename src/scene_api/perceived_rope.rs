@@ -1,0 +1,825 @@
+//! The rope mechanism as perception reads it, written in the release's own format: a
+//! [`RopeAnnotation`] (objects, rope paths and groups, layout positions, camera) and a
+//! [`FourDData`] (first-frame poses of the moving bodies, each rope's shape as tracked
+//! particles), so `--perception maskrcnn --dynamics simulate` runs the same scene code and
+//! simulator as the oracle, on what the detector saw instead of what the generator recorded.
+//!
+//! Input: the first-pass tracks of the video (class, colour, detections with masks), the frames'
+//! size and the camera calibration. Each non-rope track becomes a node at its mask centroid
+//! lifted onto the scene plane `z = 0`; each rope's path is read from its mask
+//! (`rope_topology`). Output: a [`PerceivedRope`]. Nothing recorded by the generator is read
+//! except the camera calibration (position, angles, field of view), which is an input of
+//! perception as it would be for a calibrated real rig; `mirrored` is derived from it (the
+//! camera sits at `z < 0`).
+//!
+//! Objects get release-style names from what was seen (`Red Hollow Static Pulley (0 3)`); the
+//! grid id is the track's index, since the layout grid cannot be seen. Loads start at the
+//! counterfactual baseline mass (0.2 kg, ×1.975 under a movable pulley) in `outputMass`: only the
+//! equal-mass counterfactual runs read it, and masses asked about are inferred from the motion.
+
+use indexmap::IndexMap;
+
+use super::rope_topology::{Node, NodeKind, RopePath, read_ropes};
+use crate::dataset::{
+    Camera, FourDData, RigidBodyTrack, RopeAnnotation, SoftBodyTrack, rope_world as world,
+};
+use crate::perception::camera::CameraModel;
+use crate::perception::color::{srgb_to_linear, wall_color};
+use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::frames::RgbFrame;
+use crate::perception::palette::palette_color;
+use crate::perception::tracking::Track;
+
+/// The release's tracked-particle spacing along a rope, units.
+const PARTICLE_SPACING: f64 = 0.5;
+/// How far from a sample point a rope's mask pixel may be and still cover it, units.
+const COVER_RADIUS: f64 = 0.35;
+
+/// Centres closer than this are one object seen twice, units (objects of the release are at
+/// least a load's width apart).
+const SAME_OBJECT_DISTANCE: f64 = 0.9;
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// The mechanism read from pixels.
+#[derive(Debug, Clone)]
+pub(crate) struct PerceivedRope {
+    /// The release-format annotation of the perceived scene.
+    pub annotation: RopeAnnotation,
+    /// First-frame poses of loads and movable pulleys, and each rope's particles.
+    pub four_d: FourDData,
+    /// Per first-pass track, the name it was given (`None`: not an object of the scene).
+    pub names: Vec<Option<String>>,
+    /// Objects seen but on no rope that was read (findable, not simulated), by name.
+    pub unattached: Vec<String>,
+}
+
+/// A world point on the `z = 0` plane seen at pixel `(x, y)`, if the viewing ray meets it in
+/// front of the camera.
+pub(crate) fn lift(model: &CameraModel, camera: &Camera, x: f64, y: f64) -> Option<[f64; 2]> {
+    let direction = model.ray(x, y);
+    if direction[2].abs() < 1e-9 {
+        return None;
+    }
+    let distance = -camera.position[2] / direction[2];
+    let world = [
+        camera.position[0] + distance * direction[0],
+        camera.position[1] + distance * direction[1],
+    ];
+    (distance > 0.0 && world.iter().all(|v| v.is_finite())).then_some(world)
+}
+
+fn node_kind(class: ObjectClass) -> Option<NodeKind> {
+    match class {
+        ObjectClass::Cube | ObjectClass::Sphere => Some(NodeKind::Load),
+        ObjectClass::FixedPoint => Some(NodeKind::Anchor),
+        ObjectClass::SolidStaticPulley => Some(NodeKind::StaticPulley { solid: true }),
+        ObjectClass::HollowStaticPulley => Some(NodeKind::StaticPulley { solid: false }),
+        ObjectClass::SolidDynamicPulley => Some(NodeKind::MovablePulley { solid: true }),
+        ObjectClass::HollowDynamicPulley => Some(NodeKind::MovablePulley { solid: false }),
+        ObjectClass::Rope => None,
+    }
+}
+
+/// The release-style name of a track: colour words, then the class's words.
+fn base_name(track: &Track) -> String {
+    let color = track
+        .color
+        .and_then(palette_color)
+        .map_or("Unknown", |c| c.name);
+    let words = match track.class {
+        ObjectClass::Cube => "Cube",
+        ObjectClass::Sphere => "Sphere",
+        ObjectClass::Rope => "Rope",
+        ObjectClass::FixedPoint => "Fixed Point",
+        ObjectClass::SolidStaticPulley => "Solid Static Pulley",
+        ObjectClass::HollowStaticPulley => "Hollow Static Pulley",
+        ObjectClass::SolidDynamicPulley => "Solid Dynamic Pulley",
+        ObjectClass::HollowDynamicPulley => "Hollow Dynamic Pulley",
+    };
+    format!("{color} {words}")
+}
+
+/// A track's first observation and its detection.
+fn detection_of<'a>(
+    track: &'a Track,
+    detections: &'a std::collections::BTreeMap<usize, Vec<Detection>>,
+) -> Option<(&'a crate::perception::tracking::TrackPoint, &'a Detection)> {
+    let first = track.observations.first()?;
+    let detection = detections.get(&first.frame)?.get(first.detection)?;
+    Some((first, detection))
+}
+
+/// Reads the mechanism of one video. `detections` holds the first pass's detections by frame
+/// (the tracks' observations index into them); `size` is the frames' width and height.
+pub(crate) fn perceive_rope(
+    tracks: &[Track],
+    detections: &std::collections::BTreeMap<usize, Vec<Detection>>,
+    size: (u32, u32),
+    frame: Option<&RgbFrame>,
+    camera: &Camera,
+    frame_count: usize,
+) -> PerceivedRope {
+    let model = CameraModel::from_unity_euler(
+        camera.position,
+        camera.rotation_deg,
+        camera.vertical_fov_deg,
+        size.0,
+        size.1,
+    );
+    // Names: unique, release-style.
+    let mut names: Vec<Option<String>> = Vec::with_capacity(tracks.len());
+    for (index, track) in tracks.iter().enumerate() {
+        let base = base_name(track);
+        let pulley = track.class.kind() == "pulley";
+        let taken = |name: &str| names.iter().flatten().any(|n| n == name);
+        let name = if pulley {
+            format!("{base} (0 {index})")
+        } else if taken(&base) {
+            format!("{base} (1 {index})")
+        } else {
+            base
+        };
+        names.push(Some(name));
+    }
+    // Nodes at their lifted centroids; ropes with their masks.
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut node_track: Vec<usize> = Vec::new();
+    let mut ropes: Vec<(usize, &Detection)> = Vec::new();
+    // Most confident first, so that of two tracks on one object (the detector's NMS is per
+    // class: one pulley can come out as a solid and as a hollow one) the surer one is kept.
+    let mut order: Vec<usize> = (0..tracks.len()).collect();
+    let confidence = |index: usize| {
+        detection_of(&tracks[index], detections).map_or(0.0, |(_, detection)| detection.score)
+    };
+    order.sort_by(|&a, &b| confidence(b).total_cmp(&confidence(a)).then(a.cmp(&b)));
+    for index in order {
+        let track = &tracks[index];
+        let Some((point, detection)) = detection_of(track, detections) else {
+            continue;
+        };
+        match node_kind(track.class) {
+            Some(kind) => {
+                if let Some(centre) = lift(&model, camera, point.centroid[0], point.centroid[1])
+                    && !nodes
+                        .iter()
+                        .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE)
+                {
+                    nodes.push(Node { kind, centre });
+                    node_track.push(index);
+                } else {
+                    // A second track on an object already placed (or one that cannot be
+                    // placed) is not an object of the scene.
+                    names[index] = None;
+                }
+            }
+            None => ropes.push((index, detection)),
+        }
+    }
+    // Pixels per unit round the scene, for the cover radius.
+    let reach_px = {
+        let middle = nodes.iter().fold([0.0, 0.0], |sum, n| {
+            [sum[0] + n.centre[0], sum[1] + n.centre[1]]
+        });
+        let count = nodes.len().max(1) as f64;
+        let middle = [middle[0] / count, middle[1] / count];
+        let here = model.project([middle[0], middle[1], 0.0]);
+        let beside = model.project([middle[0] + COVER_RADIUS, middle[1], 0.0]);
+        match (here, beside) {
+            (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y).max(1.5),
+            _ => 1.5,
+        }
+    };
+    let (width, height) = size;
+    let wall = frame.and_then(|frame| {
+        let masks: Vec<&InstanceMask> = detections
+            .get(&frame.index)
+            .map(|list| list.iter().map(|d| &d.mask).collect())
+            .unwrap_or_default();
+        wall_color(frame, &masks)
+    });
+    // The pixels of the objects that are not ropes, in the evidence frame.
+    let mut occupied = vec![false; frame.map_or(0, |f| f.width as usize * f.height as usize)];
+    if let Some(frame) = frame {
+        for detection in detections.get(&frame.index).into_iter().flatten() {
+            if detection.class != ObjectClass::Rope {
+                for (x, y) in detection.mask.pixels() {
+                    if let Some(slot) =
+                        occupied.get_mut(y as usize * frame.width as usize + x as usize)
+                    {
+                        *slot = true;
+                    }
+                }
+            }
+        }
+    }
+    let evidence: Vec<RopeEvidence> = ropes
+        .iter()
+        .map(|(_, detection)| RopeEvidence::new(detection, frame.zip(wall), &occupied))
+        .collect();
+    let mut covers = |rope: usize, point: [f64; 2]| -> Option<bool> {
+        let evidence = evidence.get(rope)?;
+        let seen = model.project([point[0], point[1], 0.0])?;
+        if seen.depth <= 0.0
+            || seen.x < 0.0
+            || seen.y < 0.0
+            || seen.x >= f64::from(width)
+            || seen.y >= f64::from(height)
+        {
+            return None;
+        }
+        // In the frame (checked above) and a few pixels wide: small and non-negative.
+        #[expect(
+            clippy::cast_possible_truncation,
+            reason = "pixel coordinates inside the frame and a radius of a few pixels"
+        )]
+        let (reach, cx, cy) = (
+            reach_px.ceil().min(64.0) as i64,
+            seen.x.floor() as i64,
+            seen.y.floor() as i64,
+        );
+        let squared = reach_px * reach_px;
+        for dy in -reach..=reach {
+            for dx in -reach..=reach {
+                if (dx * dx + dy * dy) as f64 > squared {
+                    continue;
+                }
+                let (x, y) = (cx + dx, cy + dy);
+                if x >= 0
+                    && y >= 0
+                    && let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y))
+                    && evidence.contains(x, y)
+                {
+                    return Some(true);
+                }
+            }
+        }
+        Some(false)
+    };
+    let mut paths = read_ropes(&nodes, ropes.len(), &mut covers);
+    // The detector can split one rope into several detections: a rope read along the same
+    // elements as a surer one, or not read but of a read rope's colour, is part of that one.
+    for later in 0..paths.len() {
+        let same_path = paths[..later].iter().flatten().any(|earlier| {
+            paths[later].as_ref().is_some_and(|path| {
+                path.nodes == earlier.nodes || path.nodes.iter().rev().eq(earlier.nodes.iter())
+            })
+        });
+        let colour = tracks[ropes[later].0].color;
+        let fragment = paths[later].is_none()
+            && colour.is_some()
+            && (0..paths.len()).any(|other| {
+                other != later && paths[other].is_some() && tracks[ropes[other].0].color == colour
+            });
+        if same_path || fragment {
+            paths[later] = None;
+            names[ropes[later].0] = None;
+        }
+    }
+    assemble(
+        names,
+        &nodes,
+        &node_track,
+        &ropes,
+        &paths,
+        camera,
+        frame_count,
+    )
+}
+
+/// A pixel's colour relative to the wall: chromaticity (r, g) and log brightness, of linear RGB
+/// divided by the wall's (the per-pixel form of `perception::color::features`).
+fn pixel_feature(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<[f64; 3]> {
+    let p = frame.pixel(x, y)?.map(srgb_to_linear);
+    let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
+    let sum = relative[0] + relative[1] + relative[2] + 1e-6;
+    let feature = [relative[0] / sum, relative[1] / sum, sum.ln()];
+    feature.iter().all(|v| v.is_finite()).then_some(feature)
+}
+
+/// How different two pixel features are: chromaticity distance plus a little of the brightness
+/// ratio (shading along a rope changes brightness more than hue).
+fn feature_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1]) + BRIGHTNESS_WEIGHT * (a[2] - b[2]).abs()
+}
+
+/// Weight of log brightness against chromaticity in [`feature_distance`].
+const BRIGHTNESS_WEIGHT: f64 = 0.15;
+/// Farthest a pixel's feature may be from its rope's and still count as the rope.
+const MAX_ROPE_DISTANCE: f64 = 0.09;
+
+/// Where one rope's pixels are: its mask, and the pixels near its box whose colour is the
+/// rope's rather than the wall's. The detector's 28×28 mask of a long thin rope is broken; the
+/// colour fills the gaps.
+struct RopeEvidence {
+    mask: InstanceMask,
+    /// The colour-matched pixels over `(left, top, width, height)`.
+    left: u32,
+    top: u32,
+    width: u32,
+    height: u32,
+    bits: Vec<bool>,
+}
+
+impl RopeEvidence {
+    /// `occupied` marks, row by row over the whole frame, the pixels of the other objects.
+    fn new(
+        detection: &Detection,
+        frame_and_wall: Option<(&RgbFrame, [f64; 3])>,
+        occupied: &[bool],
+    ) -> RopeEvidence {
+        let mut evidence = RopeEvidence {
+            mask: detection.mask.clone(),
+            left: 0,
+            top: 0,
+            width: 0,
+            height: 0,
+            bits: Vec::new(),
+        };
+        let Some((frame, wall)) = frame_and_wall else {
+            return evidence;
+        };
+        // The rope's colour: the per-channel median feature of its mask's pixels.
+        let mut channels: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+        for (x, y) in detection.mask.pixels() {
+            if let Some(f) = pixel_feature(frame, x, y, wall) {
+                for c in 0..3 {
+                    channels[c].push(f[c]);
+                }
+            }
+        }
+        if channels[0].len() < 20 {
+            return evidence;
+        }
+        let reference = channels.map(|mut values| {
+            values.sort_by(f64::total_cmp);
+            values[values.len() / 2]
+        });
+        let wall_feature = [1.0 / 3.0, 1.0 / 3.0, 3.0_f64.ln()];
+        // The whole frame, less the objects: the detector's box often misses part of a long
+        // rope, and an object of the rope's colour is not rope.
+        let (width, height) = (frame.width, frame.height);
+        evidence.width = width;
+        evidence.height = height;
+        evidence.bits = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .zip(occupied)
+            .map(|((x, y), object)| {
+                !object
+                    && pixel_feature(frame, x, y, wall).is_some_and(|f| {
+                        let to_rope = feature_distance(f, reference);
+                        to_rope < MAX_ROPE_DISTANCE && to_rope < feature_distance(f, wall_feature)
+                    })
+            })
+            .collect();
+        evidence
+    }
+
+    fn contains(&self, x: u32, y: u32) -> bool {
+        if self.mask.contains(x, y) {
+            return true;
+        }
+        if x < self.left
+            || y < self.top
+            || x >= self.left + self.width
+            || y >= self.top + self.height
+        {
+            return false;
+        }
+        self.bits[((y - self.top) * self.width + (x - self.left)) as usize]
+    }
+}
+
+/// The representative of `i`'s set in a union-find forest.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// Writes the read paths as release-format annotation and 4-D data.
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    names: Vec<Option<String>>,
+    nodes: &[Node],
+    node_track: &[usize],
+    ropes: &[(usize, &Detection)],
+    paths: &[Option<RopePath>],
+    camera: &Camera,
+    frame_count: usize,
+) -> PerceivedRope {
+    let name_of = |track: usize| names.get(track).cloned().flatten().unwrap_or_default();
+    let node_name = |node: usize| {
+        node_track
+            .get(node)
+            .map(|&t| name_of(t))
+            .unwrap_or_default()
+    };
+    // Ropes that were read, as (rope name, node path).
+    let read: Vec<(String, &RopePath)> = ropes
+        .iter()
+        .zip(paths)
+        .filter_map(|((track, _), path)| Some((name_of(*track), path.as_ref()?)))
+        .collect();
+    // Groups: ropes sharing a node, by union-find over rope indices.
+    let mut parent: Vec<usize> = (0..read.len()).collect();
+    for a in 0..read.len() {
+        for b in a + 1..read.len() {
+            if read[a].1.nodes.iter().any(|n| read[b].1.nodes.contains(n)) {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    let roots: Vec<usize> = (0..read.len()).map(|i| root(&mut parent, i)).collect();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for rope in 0..read.len() {
+        match groups.iter_mut().find(|g| roots[g[0]] == roots[rope]) {
+            Some(group) => group.push(rope),
+            None => groups.push(vec![rope]),
+        }
+    }
+    let mut related_groups = Vec::new();
+    let mut related_groups_in_rope = Vec::new();
+    for group in &groups {
+        // The main rope is the longest; side ropes are listed after the node they hang from.
+        let mut order = group.clone();
+        order.sort_by_key(|&r| (std::cmp::Reverse(read[r].1.nodes.len()), r));
+        let mut in_rope = IndexMap::new();
+        for &r in &order {
+            let (rope, path) = &read[r];
+            let mut elements = Vec::new();
+            for (i, &node) in path.nodes.iter().enumerate() {
+                if i > 0 {
+                    elements.push(rope.clone());
+                }
+                elements.push(node_name(node));
+            }
+            in_rope.insert(rope.clone(), elements);
+        }
+        let mut listed = Vec::new();
+        let mut placed = vec![false; read.len()];
+        write_chain(&read, order[0], None, &node_name, &mut listed, &mut placed);
+        for &r in &order {
+            if !placed[r] {
+                write_chain(&read, r, None, &node_name, &mut listed, &mut placed);
+            }
+        }
+        related_groups.push(listed);
+        related_groups_in_rope.push(in_rope);
+    }
+    let mut annotation = RopeAnnotation {
+        mode: "PERCEIVED".to_string(),
+        related_groups: related_groups.clone(),
+        related_groups_in_rope: related_groups_in_rope.clone(),
+        result_rotation: IndexMap::new(),
+        result_motion: IndexMap::new(),
+        result_tension: IndexMap::new(),
+        predictive_event_type: IndexMap::new(),
+        predictive_event_body: IndexMap::new(),
+        output_mass_kg: IndexMap::new(),
+        camera: Some(Camera {
+            mirrored: camera.position[2] < 0.0,
+            ..camera.clone()
+        }),
+        counterfactuals: Vec::new(),
+        id_to_object_name: Vec::new(),
+        frame_count,
+        element_positions: IndexMap::new(),
+    };
+    // Loads: every load seen, at the counterfactual baseline mass.
+    for (node, &track) in node_track.iter().enumerate() {
+        let name = name_of(track);
+        if nodes[node].kind == NodeKind::Load {
+            let multiplier = super::rope_sim::load_multiplier(&annotation, &name);
+            annotation
+                .output_mass_kg
+                .insert(name.clone(), world::BASELINE_MASS_KG * multiplier);
+        }
+        annotation
+            .element_positions
+            .insert(name, nodes[node].centre);
+    }
+    annotation.id_to_object_name = names
+        .iter()
+        .enumerate()
+        .filter_map(|(i, n)| Some((u32::try_from(i).ok()?, n.clone()?)))
+        .collect();
+    // 4-D: moving bodies at their first position; ropes as particles along their paths.
+    let mut four_d = FourDData::default();
+    for (node, &track) in node_track.iter().enumerate() {
+        let moving = matches!(
+            nodes[node].kind,
+            NodeKind::Load | NodeKind::MovablePulley { .. }
+        );
+        let centre = nodes[node].centre;
+        let pose = ([centre[0], centre[1], 0.0], [0.0; 3]);
+        four_d.rigid_bodies.insert(
+            name_of(track),
+            RigidBodyTrack {
+                is_static: !moving,
+                poses: if moving { vec![pose] } else { Vec::new() },
+                voxels: Vec::new(),
+                first_pose: Some(pose),
+            },
+        );
+    }
+    for (rope, path) in &read {
+        let particles = path
+            .polyline(nodes, PARTICLE_SPACING)
+            .into_iter()
+            .map(|p| [p[0], p[1], 0.0])
+            .collect();
+        four_d.soft_bodies.insert(
+            rope.clone(),
+            SoftBodyTrack {
+                particles: vec![particles],
+            },
+        );
+    }
+    // Objects on no read rope stay findable.
+    let on_rope = |name: &str| {
+        related_groups_in_rope.iter().any(|g| {
+            g.iter()
+                .any(|(rope, elements)| rope == name || elements.iter().any(|e| e == name))
+        })
+    };
+    let unattached = names
+        .iter()
+        .flatten()
+        .filter(|name| !on_rope(name) && !annotation.output_mass_kg.contains_key(*name))
+        .cloned()
+        .collect();
+    PerceivedRope {
+        annotation,
+        four_d,
+        names,
+        unattached,
+    }
+}
+
+/// Appends rope `rope`'s chain to `listed` in `relatedGroups` order (`node, rope, node, …`),
+/// starting from `from` when given, and after each node the side ropes that end there.
+fn write_chain(
+    read: &[(String, &RopePath)],
+    rope: usize,
+    from: Option<usize>,
+    node_name: &dyn Fn(usize) -> String,
+    listed: &mut Vec<String>,
+    placed: &mut [bool],
+) {
+    placed[rope] = true;
+    let (name, path) = &read[rope];
+    let mut nodes = path.nodes.clone();
+    if from.is_some_and(|f| nodes.last() == Some(&f)) {
+        nodes.reverse();
+    }
+    for (i, &node) in nodes.iter().enumerate() {
+        // A side rope's first node is the shared one, already listed.
+        if !(i == 0 && from == Some(node)) {
+            if i > 0 || from.is_some() {
+                listed.push(name.clone());
+            }
+            listed.push(node_name(node));
+        }
+        for (other, (_, other_path)) in read.iter().enumerate() {
+            let ends_here =
+                other_path.nodes.first() == Some(&node) || other_path.nodes.last() == Some(&node);
+            if !placed[other] && ends_here {
+                // The rope this chain is on resumes after the side chain.
+                write_chain(read, other, Some(node), node_name, listed, placed);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::engine::RopeScene;
+    use crate::perception::detection::InstanceMask;
+    use crate::physics::rope::Turn;
+    use crate::scene_api::rope_sim::{Run, rope_paths, simulate_rope};
+
+    fn sample() -> (RopeAnnotation, FourDData) {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
+        (
+            RopeAnnotation::load(&dir.join("outputs.json")).unwrap(),
+            FourDData::load(&dir.join("outputs4D.json")).unwrap(),
+        )
+    }
+
+    fn kind_of(name: &str) -> NodeKind {
+        let solid = name.contains("Solid");
+        if name.contains("Static Pulley") {
+            NodeKind::StaticPulley { solid }
+        } else if name.contains("Dynamic Pulley") {
+            NodeKind::MovablePulley { solid }
+        } else if name.contains("Fixed Point") {
+            NodeKind::Anchor
+        } else {
+            NodeKind::Load
+        }
+    }
+
+    fn rope_detection() -> Detection {
+        Detection {
+            frame: 0,
+            class: ObjectClass::Rope,
+            score: 1.0,
+            bbox: [0.0; 4],
+            mask: InstanceMask::empty(),
+            color: None,
+        }
+    }
+
+    /// The annotated mechanism of the real video, fed through the perceived route (nodes at its
+    /// elements' start positions, its paths and turns), comes out as an annotation that
+    /// simulates exactly as the original: same groups, same outcome of every mass
+    /// counterfactual.
+    #[test]
+    fn the_annotated_mechanism_written_as_perceived_simulates_the_same() {
+        let (annotation, four_d) = sample();
+        let paths = rope_paths(&annotation, Some(&four_d)).unwrap();
+        let mut names: Vec<Option<String>> = Vec::new();
+        let mut nodes = Vec::new();
+        let mut node_track = Vec::new();
+        for (_, elements, _) in &paths {
+            for name in elements {
+                if names.iter().flatten().any(|n| n == name) {
+                    continue;
+                }
+                let at = four_d
+                    .rigid_bodies
+                    .get(name)
+                    .and_then(|t| t.poses.first())
+                    .map(|(p, _)| [p[0], p[1]])
+                    .or_else(|| annotation.element_positions.get(name).copied())
+                    .unwrap();
+                node_track.push(names.len());
+                nodes.push(Node {
+                    kind: kind_of(name),
+                    centre: at,
+                });
+                names.push(Some(name.clone()));
+            }
+        }
+        let detection = rope_detection();
+        let mut ropes = Vec::new();
+        let mut read = Vec::new();
+        for (rope, elements, turns) in &paths {
+            ropes.push((names.len(), &detection));
+            names.push(Some(rope.clone()));
+            let indices = elements
+                .iter()
+                .map(|e| {
+                    let track = names.iter().position(|n| n.as_deref() == Some(e)).unwrap();
+                    node_track.iter().position(|t| *t == track).unwrap()
+                })
+                .collect();
+            read.push(Some(RopePath {
+                nodes: indices,
+                turns: turns.clone(),
+                covered: 0,
+                missed: 0,
+            }));
+        }
+        let camera = annotation.camera.clone().unwrap();
+        let perceived = assemble(names, &nodes, &node_track, &ropes, &read, &camera, 150);
+        assert_eq!(
+            perceived.annotation.related_groups_in_rope,
+            annotation.related_groups_in_rope
+        );
+        assert!(perceived.unattached.is_empty());
+        assert_eq!(
+            perceived.annotation.camera.as_ref().map(|c| c.mirrored),
+            Some(true),
+            "mirrored is read from the camera's side (z < 0)"
+        );
+        // The turns survive the round trip through particles.
+        let again = rope_paths(&perceived.annotation, Some(&perceived.four_d)).unwrap();
+        assert_eq!(again, paths);
+        assert!(
+            again
+                .iter()
+                .flat_map(|(_, _, t)| t)
+                .any(|t| *t == Some(Turn::Clockwise)),
+            "{again:?}"
+        );
+        // Both engines see the same objects and relations.
+        let scene = RopeScene::from_annotation("0", &perceived.annotation).unwrap();
+        let original = RopeScene::from_annotation("0", &annotation).unwrap();
+        assert_eq!(scene.objects().len(), original.objects().len());
+        for load in ["Purple Cube", "Green Cube", "Pink Sphere"] {
+            let mut masses = perceived.annotation.output_mass_kg.clone();
+            assert_eq!(masses.len(), 3);
+            *masses.get_mut(load).unwrap() -= 0.1;
+            let seen = simulate_rope(
+                &perceived.annotation,
+                Some(&perceived.four_d),
+                &masses,
+                None,
+                Run::Counterfactual,
+            )
+            .unwrap();
+            let truth = simulate_rope(
+                &annotation,
+                Some(&four_d),
+                &masses,
+                None,
+                Run::Counterfactual,
+            )
+            .unwrap();
+            assert_eq!(seen.motion, truth.motion, "{load} lighter");
+            assert_eq!(seen.rotation, truth.rotation, "{load} lighter");
+        }
+    }
+
+    /// A movable pulley's own rope is listed after it, then the main rope resumes, as the
+    /// release writes `relatedGroups`; the load under it is marked as such (×1.975).
+    #[test]
+    fn side_ropes_are_listed_after_their_pulley() {
+        let r = world::wrap_radius(false);
+        let names = [
+            "Red Fixed Point",
+            "Blue Hollow Dynamic Pulley (0 1)",
+            "Green Hollow Static Pulley (0 2)",
+            "Gray Cube",
+            "Pink Sphere",
+            "White Rope",
+            "Black Rope",
+        ];
+        let nodes = vec![
+            Node {
+                kind: NodeKind::Anchor,
+                centre: [-r, 10.0],
+            },
+            Node {
+                kind: NodeKind::MovablePulley { solid: false },
+                centre: [0.0, 2.0],
+            },
+            Node {
+                kind: NodeKind::StaticPulley { solid: false },
+                centre: [2.0 * r, 10.0],
+            },
+            Node {
+                kind: NodeKind::Load,
+                centre: [3.0 * r, 4.0],
+            },
+            Node {
+                kind: NodeKind::Load,
+                centre: [0.0, -2.0],
+            },
+        ];
+        let detection = rope_detection();
+        let ropes = [(5, &detection), (6, &detection)];
+        let main = RopePath {
+            nodes: vec![0, 1, 2, 3],
+            turns: vec![
+                None,
+                Some(Turn::CounterClockwise),
+                Some(Turn::Clockwise),
+                None,
+            ],
+            covered: 0,
+            missed: 0,
+        };
+        let side = RopePath {
+            nodes: vec![4, 1],
+            turns: vec![None, None],
+            covered: 0,
+            missed: 0,
+        };
+        let camera = sample().0.camera.unwrap();
+        let perceived = assemble(
+            names.iter().map(|n| Some((*n).to_string())).collect(),
+            &nodes,
+            &[0, 1, 2, 3, 4],
+            &ropes,
+            &[Some(main), Some(side)],
+            &camera,
+            150,
+        );
+        assert_eq!(
+            perceived.annotation.related_groups,
+            vec![vec![
+                "Red Fixed Point",
+                "White Rope",
+                "Blue Hollow Dynamic Pulley (0 1)",
+                "Black Rope",
+                "Pink Sphere",
+                "White Rope",
+                "Green Hollow Static Pulley (0 2)",
+                "White Rope",
+                "Gray Cube",
+            ]]
+        );
+        let masses = &perceived.annotation.output_mass_kg;
+        assert!((masses["Pink Sphere"] - 0.2 * 1.975).abs() < 1e-12);
+        assert!((masses["Gray Cube"] - 0.2).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,570 @@
+//! Rope topology from pixels: which pulleys, loads and fixed points each rope runs through, in
+//! which order, and on which side it passes each pulley, read from where the rope's pixels are.
+//!
+//! Every rope of the release is a chain: it starts at an end (a load, a fixed point, or a movable
+//! pulley's hook), runs in straight segments tangent to the pulleys it wraps, and stops at another
+//! end (FORMAT.md §2.1). So each hypothesis "the rope leaves node `a` on side `s_a` and reaches
+//! node `b` on side `s_b`" is one straight segment whose geometry is fixed by the nodes' centres
+//! and wrap radii; a hypothesis holds when the rope's pixels lie along it. [`read_ropes`]
+//! searches the chains of segments the rope's pixels support and keeps, per rope, the one that
+//! explains the most rope length.
+//!
+//! Input: the nodes (kind, centre on the scene plane `z = 0`, units), the number of ropes, and an
+//! evidence function that says whether a rope's pixels cover a scene point (`None` when the point
+//! is not observable, e.g. off-screen). Output: per rope, its path (node indices in order, with
+//! the turn at each pulley it wraps) and how well the pixels support it, or nothing when no chain
+//! is supported.
+
+use crate::dataset::rope_world as world;
+use crate::physics::rope::Turn;
+
+/// What a node of the mechanism is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum NodeKind {
+    /// A static pulley; `solid` sets its wrap radius.
+    StaticPulley { solid: bool },
+    /// A movable pulley; `solid` sets its wrap radius.
+    MovablePulley { solid: bool },
+    /// A fixed point (rope end on the ceiling or floor).
+    Anchor,
+    /// A cube or sphere (rope end).
+    Load,
+}
+
+impl NodeKind {
+    /// The radius the rope wraps this node at when it passes it, units (`None`: a rope cannot
+    /// pass it, only end at it).
+    fn wrap_radius(self) -> Option<f64> {
+        match self {
+            NodeKind::StaticPulley { solid } | NodeKind::MovablePulley { solid } => {
+                Some(world::wrap_radius(solid))
+            }
+            NodeKind::Anchor | NodeKind::Load => None,
+        }
+    }
+
+    /// Whether a rope may end here: loads and fixed points, and a movable pulley's hook (a load
+    /// hanging from a movable pulley on its own rope, or a rope tied to it).
+    fn can_end(self) -> bool {
+        !matches!(self, NodeKind::StaticPulley { .. })
+    }
+
+    /// Where a rope ending here is tied, relative to the node's centre, units.
+    fn attachment(self) -> [f64; 2] {
+        if self == NodeKind::Load {
+            [0.0, world::LOAD_ATTACH_HEIGHT]
+        } else {
+            [0.0, 0.0]
+        }
+    }
+
+    /// The radius round the centre inside which the node's own body hides the rope, units.
+    fn body_radius(self) -> f64 {
+        match self {
+            NodeKind::StaticPulley { solid } | NodeKind::MovablePulley { solid } => {
+                let disc = if solid {
+                    world::SOLID_PULLEY_RADIUS
+                } else {
+                    world::HOLLOW_PULLEY_RADIUS
+                };
+                disc.max(world::wrap_radius(solid)) + 2.0 * world::ROPE_RADIUS
+            }
+            NodeKind::Load => world::LOAD_HALF_HEIGHT * std::f64::consts::SQRT_2 + 0.1,
+            NodeKind::Anchor => 0.6,
+        }
+    }
+}
+
+/// One pulley, load or fixed point, where perception put it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Node {
+    /// What it is.
+    pub kind: NodeKind,
+    /// Centre on the scene plane, units.
+    pub centre: [f64; 2],
+}
+
+/// One rope's chain as read from its pixels.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RopePath {
+    /// Node indices from one end to the other.
+    pub nodes: Vec<usize>,
+    /// The turn at each node of `nodes` (`None` at the two ends).
+    pub turns: Vec<Option<Turn>>,
+    /// Samples along the segments that the rope's pixels cover.
+    pub covered: usize,
+    /// Samples along the segments that they do not cover.
+    pub missed: usize,
+}
+
+impl RopePath {
+    /// The straight segments of the path, end to end, units.
+    pub(crate) fn segments(&self, nodes: &[Node]) -> Vec<([f64; 2], [f64; 2])> {
+        self.nodes
+            .windows(2)
+            .enumerate()
+            .filter_map(|(i, pair)| {
+                segment(
+                    nodes.get(pair[0])?,
+                    self.turns.get(i).copied().flatten(),
+                    nodes.get(pair[1])?,
+                    self.turns.get(i + 1).copied().flatten(),
+                )
+            })
+            .collect()
+    }
+
+    /// Points along the whole rope, `spacing` apart: its straight segments and the arcs it wraps
+    /// round each pulley between them (the shape the release's tracked rope particles have).
+    pub(crate) fn polyline(&self, nodes: &[Node], spacing: f64) -> Vec<[f64; 2]> {
+        let segments = self.segments(nodes);
+        let mut points = Vec::new();
+        for (index, (start, end)) in segments.iter().enumerate() {
+            if index > 0
+                && let (Some(&node), Some(Some(turn)), Some((_, previous_end))) = (
+                    self.nodes.get(index),
+                    self.turns.get(index),
+                    segments.get(index - 1),
+                )
+                && let Some(node) = nodes.get(node)
+                && let Some(radius) = node.kind.wrap_radius()
+            {
+                push_arc(
+                    &mut points,
+                    node.centre,
+                    radius,
+                    *previous_end,
+                    *start,
+                    *turn,
+                    spacing,
+                );
+            }
+            let length = distance(*start, *end);
+            let count = pieces(length / spacing).max(1);
+            for step in 0..=count {
+                let t = step as f64 / count as f64;
+                points.push(lerp(*start, *end, t));
+            }
+        }
+        points
+    }
+}
+
+fn push_arc(
+    points: &mut Vec<[f64; 2]>,
+    centre: [f64; 2],
+    radius: f64,
+    from: [f64; 2],
+    to: [f64; 2],
+    turn: Turn,
+    spacing: f64,
+) {
+    let angle = |p: [f64; 2]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+    let (start, end) = (angle(from), angle(to));
+    let mut sweep = end - start;
+    // The rope goes round counter-clockwise (positive angles) for a counter-clockwise turn.
+    match turn {
+        Turn::CounterClockwise => {
+            while sweep < 0.0 {
+                sweep += std::f64::consts::TAU;
+            }
+        }
+        Turn::Clockwise => {
+            while sweep > 0.0 {
+                sweep -= std::f64::consts::TAU;
+            }
+        }
+    }
+    let count = pieces(sweep.abs() * radius / spacing);
+    for step in 1..count {
+        let a = start + sweep * step as f64 / count as f64;
+        points.push([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]);
+    }
+}
+
+/// How many pieces of at most one unit a length of `units` splits into (0 for non-finite or
+/// non-positive lengths).
+fn pieces(units: f64) -> usize {
+    if units.is_finite() && units > 0.0 {
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "positive and finite, and far below usize::MAX for scene lengths"
+        )]
+        let count = units.ceil().min(1e6) as usize;
+        count
+    } else {
+        0
+    }
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn lerp(a: [f64; 2], b: [f64; 2], t: f64) -> [f64; 2] {
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+}
+
+/// The straight piece of rope from node `a` to node `b`: it leaves `a` tangent to its wrap circle
+/// when `turn_a` is given (the rope goes round `a` that way), else from `a`'s attachment point,
+/// and reaches `b` likewise. `None` when the circles overlap so that no such tangent exists.
+///
+/// With `s = +1` for a counter-clockwise turn (the centre on the rope's left) the tangent points
+/// are `p = c − s·r·n`, `n` the left normal of the direction `d`; `c_b − c_a = L·d + k·n` with
+/// `k = s_b·r_b − s_a·r_a`, so `d = (c_b − c_a)·(L − i·k) / |c_b − c_a|²` in complex numbers.
+pub(crate) fn segment(
+    a: &Node,
+    turn_a: Option<Turn>,
+    b: &Node,
+    turn_b: Option<Turn>,
+) -> Option<([f64; 2], [f64; 2])> {
+    let circle = |node: &Node, turn: Option<Turn>| -> ([f64; 2], f64) {
+        if let (Some(turn), Some(radius)) = (turn, node.kind.wrap_radius()) {
+            (node.centre, turn.sign() * radius)
+        } else {
+            let offset = node.kind.attachment();
+            (
+                [node.centre[0] + offset[0], node.centre[1] + offset[1]],
+                0.0,
+            )
+        }
+    };
+    let (ca, sa) = circle(a, turn_a);
+    let (cb, sb) = circle(b, turn_b);
+    let delta = [cb[0] - ca[0], cb[1] - ca[1]];
+    let squared = delta[0] * delta[0] + delta[1] * delta[1];
+    let k = sb - sa;
+    let along_squared = squared - k * k;
+    // Also refuses NaN.
+    if along_squared.partial_cmp(&1e-9) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let along = along_squared.sqrt();
+    // d = delta · (along − i·k) / |delta|².
+    let direction = [
+        (delta[0] * along + delta[1] * k) / squared,
+        (delta[1] * along - delta[0] * k) / squared,
+    ];
+    let normal = [-direction[1], direction[0]];
+    let start = [ca[0] - sa * normal[0], ca[1] - sa * normal[1]];
+    let end = [cb[0] - sb * normal[0], cb[1] - sb * normal[1]];
+    (start.iter().chain(&end).all(|v| v.is_finite())).then_some((start, end))
+}
+
+/// Clearance beyond its wrap radius within which a straight rope is taken to touch a pulley,
+/// units (positions read from pixels are off by about this much).
+const GRAZE: f64 = 0.25;
+
+fn distance_to_segment(point: [f64; 2], start: [f64; 2], end: [f64; 2]) -> f64 {
+    let along = [end[0] - start[0], end[1] - start[1]];
+    let squared = along[0] * along[0] + along[1] * along[1];
+    let t = if squared > 0.0 {
+        (((point[0] - start[0]) * along[0] + (point[1] - start[1]) * along[1]) / squared)
+            .clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    distance(point, lerp(start, end, t))
+}
+
+/// How densely segments are sampled against the pixels, units.
+const SAMPLE_SPACING: f64 = 0.2;
+/// Least share of a segment's observable samples the rope's pixels must cover.
+const MIN_SEGMENT_COVERAGE: f64 = 0.75;
+/// Observable samples under which a segment is too short to tell (a load just under its
+/// pulley): it is accepted without evidence.
+const MIN_SAMPLES: usize = 3;
+/// Longest path searched, in nodes (the release's ropes have 2 to 7).
+const MAX_PATH_NODES: usize = 9;
+
+/// Samples of one segment the pixels cover and miss; `None` when they reject it.
+fn segment_support(
+    nodes: &[Node],
+    from: usize,
+    to: usize,
+    (start, end): ([f64; 2], [f64; 2]),
+    covers: &mut dyn FnMut([f64; 2]) -> Option<bool>,
+) -> Option<(usize, usize)> {
+    // A rope cannot pass through a pulley, and one it grazes turns it: such a segment must
+    // wrap that pulley instead.
+    let grazes = nodes.iter().enumerate().any(|(index, node)| {
+        index != from
+            && index != to
+            && node
+                .kind
+                .wrap_radius()
+                .is_some_and(|radius| distance_to_segment(node.centre, start, end) < radius + GRAZE)
+    });
+    if grazes {
+        return None;
+    }
+    let length = distance(start, end);
+    let count = pieces(length / SAMPLE_SPACING);
+    let (mut covered, mut missed) = (0, 0);
+    for step in 0..=count {
+        let point = lerp(start, end, (step as f64 + 0.5) / (count as f64 + 1.0));
+        // Samples where a node's body hides the rope tell nothing.
+        let hidden = nodes.iter().enumerate().any(|(index, node)| {
+            let reach = node.kind.body_radius();
+            let ends = index == from || index == to;
+            distance(point, node.centre) < if ends { reach } else { reach * 0.8 }
+        });
+        if hidden {
+            continue;
+        }
+        match covers(point) {
+            Some(true) => covered += 1,
+            Some(false) => missed += 1,
+            None => {}
+        }
+    }
+    let observed = covered + missed;
+    if observed < MIN_SAMPLES {
+        // Too short to see: a load hanging right under its pulley. Accept only short segments.
+        return (length < 3.0).then_some((0, 0));
+    }
+    (covered as f64 >= MIN_SEGMENT_COVERAGE * observed as f64).then_some((covered, missed))
+}
+
+/// Reads each rope's path: for every rope `0..ropes`, the chain of supported segments with the
+/// most covered samples (ties: fewer missed, then fewer nodes, then the lower node indices),
+/// among chains that start and end at nodes a rope can end at and wrap only pulleys in between.
+/// `covers(rope, point)` says whether rope `rope`'s pixels cover a scene point.
+pub(crate) fn read_ropes(
+    nodes: &[Node],
+    ropes: usize,
+    covers: &mut dyn FnMut(usize, [f64; 2]) -> Option<bool>,
+) -> Vec<Option<RopePath>> {
+    (0..ropes)
+        .map(|rope| read_rope(nodes, &mut |point| covers(rope, point)))
+        .collect()
+}
+
+/// Turns a node can be passed with: both sides for pulleys, none for ends.
+fn turn_options(kind: NodeKind) -> &'static [Option<Turn>] {
+    if kind.wrap_radius().is_some() {
+        &[Some(Turn::CounterClockwise), Some(Turn::Clockwise)]
+    } else {
+        &[None]
+    }
+}
+
+fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -> Option<RopePath> {
+    // Support of every directed segment hypothesis, computed once: (from, turn at from, to,
+    // turn at to) → (covered, missed). Ends are passed with no turn.
+    type Key = (usize, u8, usize, u8);
+    let code = |turn: Option<Turn>| match turn {
+        None => 0,
+        Some(Turn::CounterClockwise) => 1,
+        Some(Turn::Clockwise) => 2,
+    };
+    let mut support: std::collections::BTreeMap<Key, Option<(usize, usize)>> =
+        std::collections::BTreeMap::new();
+    let mut lookup = |from: usize, turn_from: Option<Turn>, to: usize, turn_to: Option<Turn>| {
+        *support
+            .entry((from, code(turn_from), to, code(turn_to)))
+            .or_insert_with(|| {
+                let geometry = segment(&nodes[from], turn_from, &nodes[to], turn_to)?;
+                segment_support(nodes, from, to, geometry, covers)
+            })
+    };
+    let mut best: Option<RopePath> = None;
+    for start in 0..nodes.len() {
+        if !nodes[start].kind.can_end() {
+            continue;
+        }
+        let mut path = RopePath {
+            nodes: vec![start],
+            turns: vec![None],
+            covered: 0,
+            missed: 0,
+        };
+        extend(nodes, &mut path, &mut lookup, &mut best);
+    }
+    best
+}
+
+/// Depth-first search from the path's last node; records every complete chain that beats `best`.
+/// The support of a directed segment hypothesis (from, turn, to, turn): samples covered and
+/// missed, or `None` when rejected.
+type Lookup<'a> =
+    dyn FnMut(usize, Option<Turn>, usize, Option<Turn>) -> Option<(usize, usize)> + 'a;
+
+fn extend(
+    nodes: &[Node],
+    path: &mut RopePath,
+    lookup: &mut Lookup<'_>,
+    best: &mut Option<RopePath>,
+) {
+    let (Some(&last), Some(&last_turn)) = (path.nodes.last(), path.turns.last()) else {
+        return;
+    };
+    if path.nodes.len() >= MAX_PATH_NODES {
+        return;
+    }
+    for next in 0..nodes.len() {
+        if path.nodes.contains(&next) {
+            continue;
+        }
+        // Ending at `next`.
+        if nodes[next].kind.can_end()
+            && let Some((covered, missed)) = lookup(last, last_turn, next, None)
+        {
+            let mut done = path.clone();
+            done.nodes.push(next);
+            done.turns.push(None);
+            done.covered += covered;
+            done.missed += missed;
+            // A chain and its reverse are the same rope; keep the one that starts lower.
+            if done.nodes.first() < done.nodes.last() && better(&done, best.as_ref()) {
+                *best = Some(done);
+            }
+        }
+        // Passing `next`.
+        for &turn in turn_options(nodes[next].kind) {
+            if turn.is_none() {
+                continue;
+            }
+            if let Some((covered, missed)) = lookup(last, last_turn, next, turn) {
+                path.nodes.push(next);
+                path.turns.push(turn);
+                path.covered += covered;
+                path.missed += missed;
+                extend(nodes, path, lookup, best);
+                path.nodes.pop();
+                path.turns.pop();
+                path.covered -= covered;
+                path.missed -= missed;
+            }
+        }
+    }
+}
+
+fn better(candidate: &RopePath, best: Option<&RopePath>) -> bool {
+    let Some(best) = best else {
+        return true;
+    };
+    let key = |p: &RopePath| {
+        (
+            std::cmp::Reverse(p.covered),
+            p.missed,
+            p.nodes.len(),
+            p.nodes.clone(),
+        )
+    };
+    key(candidate) < key(best)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pulley(x: f64, y: f64) -> Node {
+        Node {
+            kind: NodeKind::StaticPulley { solid: false },
+            centre: [x, y],
+        }
+    }
+
+    fn node(kind: NodeKind, x: f64, y: f64) -> Node {
+        Node {
+            kind,
+            centre: [x, y],
+        }
+    }
+
+    #[test]
+    fn tangents_touch_both_circles_at_right_angles() {
+        let a = pulley(0.0, 0.0);
+        let b = node(NodeKind::MovablePulley { solid: true }, 5.0, -6.0);
+        for turn_a in [Turn::CounterClockwise, Turn::Clockwise] {
+            for turn_b in [Turn::CounterClockwise, Turn::Clockwise] {
+                let (start, end) = segment(&a, Some(turn_a), &b, Some(turn_b)).unwrap();
+                let radius_a = world::wrap_radius(false);
+                let radius_b = world::wrap_radius(true);
+                assert!((distance(start, a.centre) - radius_a).abs() < 1e-9);
+                assert!((distance(end, b.centre) - radius_b).abs() < 1e-9);
+                let direction = [end[0] - start[0], end[1] - start[1]];
+                let radial = [start[0] - a.centre[0], start[1] - a.centre[1]];
+                assert!((direction[0] * radial[0] + direction[1] * radial[1]).abs() < 1e-9);
+                // The centre lies on the travel's left for a counter-clockwise turn.
+                let cross = |centre: [f64; 2], at: [f64; 2]| {
+                    direction[0] * (centre[1] - at[1]) - direction[1] * (centre[0] - at[0])
+                };
+                assert_eq!(
+                    cross(a.centre, start) > 0.0,
+                    turn_a == Turn::CounterClockwise
+                );
+                assert_eq!(cross(b.centre, end) > 0.0, turn_b == Turn::CounterClockwise);
+            }
+        }
+    }
+
+    #[test]
+    fn a_load_hanging_off_a_pulley_hangs_from_its_rim() {
+        // Travelling up from a load on the left of a pulley and wrapping it clockwise: the rope
+        // runs vertically up to the pulley's leftmost point.
+        let r = world::wrap_radius(false);
+        let load = node(NodeKind::Load, -r, -6.0);
+        let (start, end) = segment(&load, None, &pulley(0.0, 0.0), Some(Turn::Clockwise)).unwrap();
+        assert!(
+            (start[0] + r).abs() < 1e-9
+                && (start[1] + 6.0 - world::LOAD_ATTACH_HEIGHT).abs() < 1e-9
+        );
+        assert!((end[0] + r).abs() < 1e-9 && end[1].abs() < 1e-9);
+    }
+
+    /// A pulley with a load on each side, an anchor elsewhere and a second pulley: the rope's
+    /// pixels are drawn from its true path, and exactly that path comes back.
+    #[test]
+    fn the_drawn_chain_is_read_back_with_its_turns() {
+        let r = world::wrap_radius(false);
+        let nodes = vec![
+            node(NodeKind::Load, -r, -6.0),
+            pulley(0.0, 0.0),
+            pulley(8.0, 0.0),
+            node(NodeKind::Load, 8.0 + r, -7.0),
+            node(NodeKind::Anchor, 4.0, 9.0),
+        ];
+        let truth = RopePath {
+            nodes: vec![0, 1, 2, 3],
+            turns: vec![None, Some(Turn::Clockwise), Some(Turn::Clockwise), None],
+            covered: 0,
+            missed: 0,
+        };
+        let drawn = truth.polyline(&nodes, 0.05);
+        let mut covers = |rope: usize, point: [f64; 2]| {
+            Some(rope == 0 && drawn.iter().any(|p| distance(*p, point) < 0.3))
+        };
+        let read = read_ropes(&nodes, 2, &mut covers);
+        let path = read[0].as_ref().unwrap();
+        assert_eq!(path.nodes, truth.nodes);
+        assert_eq!(path.turns, truth.turns);
+        assert!(path.missed == 0 && path.covered > 20, "{path:?}");
+        assert!(read[1].is_none(), "a rope with no pixels has no path");
+    }
+
+    #[test]
+    fn arcs_wrap_the_pulley_the_way_the_rope_turns() {
+        let r = world::wrap_radius(false);
+        let nodes = vec![
+            node(NodeKind::Load, -r, -6.0),
+            pulley(0.0, 0.0),
+            node(NodeKind::Load, r, -6.0),
+        ];
+        let over_the_top = RopePath {
+            nodes: vec![0, 1, 2],
+            turns: vec![None, Some(Turn::Clockwise), None],
+            covered: 0,
+            missed: 0,
+        };
+        let points = over_the_top.polyline(&nodes, 0.1);
+        let highest = points.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
+        assert!(
+            (highest - r).abs() < 0.01,
+            "the rope passes over the top: {highest}"
+        );
+        assert!(points.windows(2).all(|w| distance(w[0], w[1]) < 0.11));
+    }
+}
