@@ -216,12 +216,14 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         },
         "sandbox": sandbox_report,
     });
-    let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(
-        stdout,
-        "{}",
-        serde_json::to_string_pretty(&report).unwrap_or_default()
-    );
+    print_report(&report)
+}
+
+/// Prints a JSON report, pretty, on standard output: every `bench` command (and `perception
+/// fit-colors`'s summary) ends so.
+pub(super) fn print_report(report: &Value) -> Result<ExitCode, AppError> {
+    let text = serde_json::to_string_pretty(report).internal()?;
+    let _ = writeln!(std::io::stdout().lock(), "{text}");
     Ok(ExitCode::SUCCESS)
 }
 
@@ -303,10 +305,7 @@ pub(crate) fn bench_llm(settings: &BenchLlmSettings) -> Result<ExitCode, AppErro
         "client": report,
         "peer_cpython_http_client": peer,
     });
-    let text = serde_json::to_string_pretty(&report).internal()?;
-    let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(stdout, "{text}");
-    Ok(ExitCode::SUCCESS)
+    print_report(&report)
 }
 
 /// The peer of `bench llm`: CPython's standard library (thread pool, `http.client`) sending the

@@ -14,7 +14,6 @@
 //! are counted apart: the benchmark answers "can not answer" for them, and inference must not
 //! decide them.
 
-use std::io::Write as _;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -22,6 +21,7 @@ use indexmap::IndexMap;
 use rand::Rng;
 use serde_json::{Value, json};
 
+use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
 use crate::dataset::{DataRoot, FourDData, RopeAnnotation, Scenario};
 use crate::physics::rope::identify::{PairVerdict, RatioClass, Undecidable};
@@ -95,10 +95,7 @@ pub(crate) fn bench_inference(
     } else {
         json!({"bench": "inference", "scenario": "rope", "sweeps": sweeps})
     };
-    let mut stdout = std::io::stdout().lock();
-    let text = serde_json::to_string_pretty(&report).internal()?;
-    let _ = writeln!(stdout, "{text}");
-    Ok(ExitCode::SUCCESS)
+    print_report(&report)
 }
 
 /// Scores every pair of loads of `videos` with their tracked heights perturbed by `noise`.

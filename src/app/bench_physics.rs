@@ -9,13 +9,13 @@
 //! difference of any body's height from the reference at the end, m.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use serde_json::{Value, json};
 
+use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
 use crate::physics::rope::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope};
 
@@ -243,9 +243,7 @@ pub(crate) fn bench_physics(
     if let Some(path) = svg {
         crate::util::write_atomic(path, svg_plot(&series).as_bytes()).user()?;
     }
-    let text = serde_json::to_string_pretty(&report).internal()?;
-    let _ = writeln!(std::io::stdout().lock(), "{text}");
-    Ok(ExitCode::SUCCESS)
+    print_report(&report)
 }
 
 /// A log–log plot of error (m) against run time (ms), one polyline per mechanism, each point

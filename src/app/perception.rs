@@ -7,7 +7,6 @@
 //! `outputs.json` for the segmentation records), a frame selection, a model. Output: JSON on
 //! stdout (and a model file for `fit-colors`).
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -15,6 +14,7 @@ use std::time::Instant;
 use serde::Serialize;
 use serde_json::json;
 
+use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
 use crate::perception::color::{ColorModel, features, name_colors, palette_id_of_name, wall_color};
@@ -208,13 +208,7 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
         "samples": samples.len(),
         "colors": model.prototypes.iter().map(|p| json!({"name": p.name, "samples": p.samples})).collect::<Vec<_>>(),
     });
-    let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(
-        stdout,
-        "{}",
-        serde_json::to_string_pretty(&summary).unwrap_or_default()
-    );
-    Ok(ExitCode::SUCCESS)
+    print_report(&summary)
 }
 
 #[derive(Debug, Default, Serialize)]
@@ -310,13 +304,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         "metrics": metrics,
         "mechanism": mechanism,
     });
-    let mut stdout = std::io::stdout().lock();
-    let _ = writeln!(
-        stdout,
-        "{}",
-        serde_json::to_string_pretty(&report).unwrap_or_default()
-    );
-    Ok(ExitCode::SUCCESS)
+    print_report(&report)
 }
 
 /// The rope mechanism read from pixels against the annotated one, per video and summed

@@ -198,6 +198,15 @@ impl Turn {
             Turn::Clockwise => -1.0,
         }
     }
+
+    /// The same wrap travelled the other way along the rope.
+    #[must_use]
+    pub fn reversed(self) -> Turn {
+        match self {
+            Turn::CounterClockwise => Turn::Clockwise,
+            Turn::Clockwise => Turn::CounterClockwise,
+        }
+    }
 }
 
 /// Why a mechanism cannot be simulated.

@@ -157,7 +157,7 @@ pub fn check_rope_mechanism(
                 seen_turns
                     .iter()
                     .rev()
-                    .map(|t| t.map(flip))
+                    .map(|t| t.map(crate::physics::rope::Turn::reversed))
                     .eq(turns.iter().copied())
             };
             if same_turns {
@@ -168,12 +168,4 @@ pub fn check_rope_mechanism(
     }
     check.extra_ropes = used.iter().filter(|u| !**u).count();
     Ok(check)
-}
-
-fn flip(turn: crate::physics::rope::Turn) -> crate::physics::rope::Turn {
-    use crate::physics::rope::Turn;
-    match turn {
-        Turn::Clockwise => Turn::CounterClockwise,
-        Turn::CounterClockwise => Turn::Clockwise,
-    }
 }

@@ -37,7 +37,7 @@ use crate::perception::camera::CameraModel;
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::{Detection, ObjectClass};
 use crate::perception::detector::{Detector, DetectorConfig};
-use crate::perception::frames::{FrameSource, Stream, VideoInfo};
+use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
 use crate::perception::palette::palette_color;
 use crate::perception::tracking::{Track, TrackerConfig, track};
 
@@ -65,6 +65,9 @@ pub(crate) struct PerceivedScene {
     /// Tracks that matched no annotated object (false positives).
     pub unbound_tracks: usize,
 }
+
+/// Detections per frame, in frame order.
+type FrameDetections = Vec<(usize, Vec<Detection>)>;
 
 /// Per bound object, its world position (units, on the `z = 0` plane) in each frame (`None`:
 /// not seen in that frame).
@@ -143,16 +146,18 @@ impl Perceiver {
             .collect()
     }
 
-    /// Runs the first pass once: the detector on frames 0, 10, …, 60, and the tracks.
-    fn first_pass(&mut self) -> Result<(), ApiError> {
+    /// Runs the first pass once: the detector on frames 0, 10, …, 60, and the tracks. Returns
+    /// the pass's first frame when this call ran it (the caller may want its pixels; the scene
+    /// does not keep frames, since a worker keeps one scene per video it has seen).
+    fn first_pass(&mut self) -> Result<Option<RgbFrame>, ApiError> {
         if !self.kept.is_empty() || self.info.frame_count == 0 {
-            return Ok(());
+            return Ok(None);
         }
         let wanted = self.first_frames();
-        let per_frame = self.detect(&wanted)?;
+        let (per_frame, first_frame) = self.detect(&wanted, wanted.first().copied())?;
         self.first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
         self.kept = per_frame.into_iter().collect();
-        Ok(())
+        Ok(first_frame)
     }
 
     /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose
@@ -186,11 +191,11 @@ impl Perceiver {
     /// The mechanism as seen (`--dynamics simulate`): objects named from their tracks, rope
     /// paths read from the rope masks, positions lifted through the camera (`perceived_rope`).
     pub(crate) fn mechanism(&mut self, camera: &Camera) -> Result<PerceivedRope, ApiError> {
-        self.first_pass()?;
-        // The first frame again, for the ropes' colours (one decode; the first pass keeps only
-        // detections).
-        let frame = match self.first_frames().first() {
-            Some(&first) => {
+        // The ropes' colours are read from the first pass's first frame; it is decoded again
+        // only if the pass ran earlier for another purpose.
+        let frame = match (self.first_pass()?, self.first_frames().first()) {
+            (Some(frame), _) => Some(frame),
+            (None, Some(&first)) => {
                 let mut frames = self
                     .source
                     .read(&[first])
@@ -198,7 +203,7 @@ impl Perceiver {
                 self.work.0 += frames.len() as u64;
                 frames.pop()
             }
-            None => None,
+            (None, None) => None,
         };
         let perceived = perceive_rope(
             &self.first,
@@ -220,7 +225,7 @@ impl Perceiver {
     pub(crate) fn positions(&mut self, camera: &Camera) -> Result<PerceivedPositions, ApiError> {
         self.first_pass()?;
         let wanted: Vec<usize> = (0..self.info.frame_count).collect();
-        let per_frame = self.detect(&wanted)?;
+        let (per_frame, _) = self.detect(&wanted, None)?;
         let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
         let model = CameraModel::from_unity_euler(
             camera.position,
@@ -250,13 +255,19 @@ impl Perceiver {
 
     /// Detections with colours for `wanted`, in order; frames [`Perceiver::scene`] ran are
     /// reused, the rest decoded in batches so a whole video is never held in memory at once.
-    fn detect(&mut self, wanted: &[usize]) -> Result<Vec<(usize, Vec<Detection>)>, ApiError> {
+    /// Also hands back frame `keep` when it was decoded here.
+    fn detect(
+        &mut self,
+        wanted: &[usize],
+        keep: Option<usize>,
+    ) -> Result<(FrameDetections, Option<RgbFrame>), ApiError> {
         let missing: Vec<usize> = wanted
             .iter()
             .copied()
             .filter(|f| !self.kept.contains_key(f))
             .collect();
         let mut found: BTreeMap<usize, Vec<Detection>> = BTreeMap::new();
+        let mut kept_frame = None;
         for batch in missing.chunks(16) {
             let frames = self
                 .source
@@ -272,14 +283,18 @@ impl Perceiver {
                 Ok(())
             })?;
             self.work.1 += frames.len() as u64;
+            if let Some(frame) = frames.into_iter().find(|f| Some(f.index) == keep) {
+                kept_frame = Some(frame);
+            }
         }
-        Ok(wanted
+        let per_frame = wanted
             .iter()
             .filter_map(|f| {
                 let detections = found.remove(f).or_else(|| self.kept.get(f).cloned())?;
                 Some((*f, detections))
             })
-            .collect())
+            .collect();
+        Ok((per_frame, kept_frame))
     }
 }
 

@@ -19,7 +19,7 @@
 
 use indexmap::IndexMap;
 
-use super::rope_topology::{Node, NodeKind, RopePath, read_ropes};
+use super::rope_topology::{Node, NodeKind, RopePath, distance, read_ropes};
 use crate::dataset::{
     Camera, FourDData, RigidBodyTrack, RopeAnnotation, SoftBodyTrack, rope_world as world,
 };
@@ -38,10 +38,6 @@ const COVER_RADIUS: f64 = 0.35;
 /// Centres closer than this are one object seen twice, units (objects of the release are at
 /// least a load's width apart).
 const SAME_OBJECT_DISTANCE: f64 = 0.9;
-
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
 
 /// The mechanism read from pixels.
 #[derive(Debug, Clone)]
@@ -89,17 +85,19 @@ fn base_name(track: &Track) -> String {
         .color
         .and_then(palette_color)
         .map_or("Unknown", |c| c.name);
-    let words = match track.class {
-        ObjectClass::Cube => "Cube",
-        ObjectClass::Sphere => "Sphere",
-        ObjectClass::Rope => "Rope",
-        ObjectClass::FixedPoint => "Fixed Point",
-        ObjectClass::SolidStaticPulley => "Solid Static Pulley",
-        ObjectClass::HollowStaticPulley => "Hollow Static Pulley",
-        ObjectClass::SolidDynamicPulley => "Solid Dynamic Pulley",
-        ObjectClass::HollowDynamicPulley => "Hollow Dynamic Pulley",
-    };
-    format!("{color} {words}")
+    // The class's words (`hollow static pulley`), capitalised as the release writes them.
+    let words: Vec<String> = track
+        .class
+        .name()
+        .split(' ')
+        .map(|word| {
+            let mut letters = word.chars();
+            letters.next().map_or_else(String::new, |first| {
+                first.to_uppercase().chain(letters).collect()
+            })
+        })
+        .collect();
+    format!("{color} {}", words.join(" "))
 }
 
 /// A track's first observation and its detection.
@@ -474,8 +472,8 @@ fn assemble(
     }
     let mut annotation = RopeAnnotation {
         mode: "PERCEIVED".to_string(),
-        related_groups: related_groups.clone(),
-        related_groups_in_rope: related_groups_in_rope.clone(),
+        related_groups,
+        related_groups_in_rope,
         result_rotation: IndexMap::new(),
         result_motion: IndexMap::new(),
         result_tension: IndexMap::new(),
@@ -543,7 +541,7 @@ fn assemble(
     }
     // Objects on no read rope stay findable.
     let on_rope = |name: &str| {
-        related_groups_in_rope.iter().any(|g| {
+        annotation.related_groups_in_rope.iter().any(|g| {
             g.iter()
                 .any(|(rope, elements)| rope == name || elements.iter().any(|e| e == name))
         })
@@ -603,27 +601,13 @@ mod tests {
     use crate::dataset::engine::RopeScene;
     use crate::perception::detection::InstanceMask;
     use crate::physics::rope::Turn;
+    use crate::scene_api::rope_sim::tests::sample;
     use crate::scene_api::rope_sim::{Run, rope_paths, simulate_rope};
 
-    fn sample() -> (RopeAnnotation, FourDData) {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
-        (
-            RopeAnnotation::load(&dir.join("outputs.json")).unwrap(),
-            FourDData::load(&dir.join("outputs4D.json")).unwrap(),
-        )
-    }
-
     fn kind_of(name: &str) -> NodeKind {
-        let solid = name.contains("Solid");
-        if name.contains("Static Pulley") {
-            NodeKind::StaticPulley { solid }
-        } else if name.contains("Dynamic Pulley") {
-            NodeKind::MovablePulley { solid }
-        } else if name.contains("Fixed Point") {
-            NodeKind::Anchor
-        } else {
-            NodeKind::Load
-        }
+        ObjectClass::from_object_name(name)
+            .and_then(node_kind)
+            .unwrap()
     }
 
     fn rope_detection() -> Detection {

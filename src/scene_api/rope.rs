@@ -27,7 +27,7 @@ use super::scene::{
 };
 use crate::dataset::engine::RopeScene;
 use crate::dataset::{
-    FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind,
+    Camera, FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind,
     parse_rope_object_name, rope_world as world,
 };
 use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
@@ -68,6 +68,26 @@ fn filled(track: &[Option<[f64; 3]>]) -> Vec<[f64; 3]> {
     out
 }
 
+/// The scene object at `index` with these words (no shape or grid: the caller adds them).
+fn object_info(
+    index: usize,
+    name: &str,
+    color: &str,
+    kind: RopeObjectKind,
+    dynamics: &str,
+) -> SceneObjectInfo {
+    SceneObjectInfo {
+        id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+        name: name.to_string(),
+        color: color.to_string(),
+        kind: kind.word().to_string(),
+        shape: None,
+        dynamics: dynamics.to_string(),
+        grid: None,
+        visible: true,
+    }
+}
+
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
 
@@ -104,32 +124,21 @@ pub(crate) struct RopeBackend {
 impl RopeBackend {
     pub(crate) fn load(spec: &VideoSpec) -> Result<RopeBackend, ApiError> {
         let video_dir = spec.video_dir.as_path();
-        let mut backend = RopeBackend::new(
-            RopeAnnotation::load(&video_dir.join("outputs.json"))?,
-            &spec.video_id,
-        )?;
+        let annotation = RopeAnnotation::load(&video_dir.join("outputs.json"))?;
         let dynamics = spec.dynamics;
-        backend.dynamics = dynamics;
-        if spec.perception == PerceptionBackend::MaskRcnn {
-            let mut perceiver = Perceiver::open(video_dir, &spec.models)?;
-            if dynamics == DynamicsBackend::Simulate {
-                // ContPRO: the mechanism itself comes from pixels; of the annotations only the
-                // camera calibration is read.
-                let camera = backend.annotation.camera.clone().ok_or_else(|| {
-                    ApiError::Unavailable(
-                        "perception needs the camera calibration (outputCamera), which this video lacks"
-                            .to_string(),
-                    )
-                })?;
-                let perceived = perceiver.mechanism(&camera)?;
-                let mut seen = RopeBackend::new(perceived.annotation, &spec.video_id)?;
-                seen.add_unattached(&perceived.unattached);
-                seen.dynamics = dynamics;
-                seen.four_d = Some(perceived.four_d);
-                seen.perceived_mechanism = true;
-                seen.perceiver = Some(Mutex::new(perceiver));
-                return Ok(seen);
+        let perceiver = match spec.perception {
+            PerceptionBackend::MaskRcnn => Some(Perceiver::open(video_dir, &spec.models)?),
+            PerceptionBackend::Annotation => None,
+        };
+        let perceiver = match perceiver {
+            Some(perceiver) if dynamics == DynamicsBackend::Simulate => {
+                return RopeBackend::perceived(spec, perceiver, annotation.camera);
             }
+            other => other,
+        };
+        let mut backend = RopeBackend::new(annotation, &spec.video_id)?;
+        backend.dynamics = dynamics;
+        if let Some(mut perceiver) = perceiver {
             backend.apply_perception(&perceiver.scene()?);
             backend.perceiver = Some(Mutex::new(perceiver));
         }
@@ -139,6 +148,29 @@ impl RopeBackend {
                 backend.four_d = Some(FourDData::load(&path)?);
             }
         }
+        Ok(backend)
+    }
+
+    /// ContPRO (`--perception maskrcnn --dynamics simulate`): the mechanism itself comes from
+    /// pixels; of the annotations only the camera calibration is read.
+    fn perceived(
+        spec: &VideoSpec,
+        mut perceiver: Perceiver,
+        camera: Option<Camera>,
+    ) -> Result<RopeBackend, ApiError> {
+        let camera = camera.ok_or_else(|| {
+            ApiError::Unavailable(
+                "perception needs the camera calibration (outputCamera), which this video lacks"
+                    .to_string(),
+            )
+        })?;
+        let perceived = perceiver.mechanism(&camera)?;
+        let mut backend = RopeBackend::new(perceived.annotation, &spec.video_id)?;
+        backend.add_unattached(&perceived.unattached);
+        backend.dynamics = DynamicsBackend::Simulate;
+        backend.four_d = Some(perceived.four_d);
+        backend.perceived_mechanism = true;
+        backend.perceiver = Some(Mutex::new(perceiver));
         Ok(backend)
     }
 
@@ -152,14 +184,15 @@ impl RopeBackend {
             .map(|(index, object)| {
                 let parsed = parse_rope_object_name(&object.annotation_name);
                 SceneObjectInfo {
-                    id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
-                    name: object.annotation_name.clone(),
-                    color: object.color.clone(),
-                    kind: object.kind.word().to_string(),
                     shape: parsed.as_ref().and_then(|p| p.pulley_shape.clone()),
-                    dynamics: object.dynamics.clone(),
                     grid: parsed.and_then(|p| p.grid),
-                    visible: true,
+                    ..object_info(
+                        index,
+                        &object.annotation_name,
+                        &object.color,
+                        object.kind,
+                        &object.dynamics,
+                    )
                 }
             })
             .collect();
@@ -216,16 +249,16 @@ impl RopeBackend {
             let Some(parsed) = parse_rope_object_name(name) else {
                 continue;
             };
-            let id = ObjectId(u32::try_from(self.objects.len()).unwrap_or(u32::MAX));
             self.objects.push(SceneObjectInfo {
-                id,
-                name: name.clone(),
-                color: parsed.color.clone(),
-                kind: parsed.kind.word().to_string(),
                 shape: parsed.pulley_shape.clone(),
-                dynamics: parsed.dynamics.clone(),
                 grid: parsed.grid,
-                visible: true,
+                ..object_info(
+                    self.objects.len(),
+                    name,
+                    &parsed.color,
+                    parsed.kind,
+                    &parsed.dynamics,
+                )
             });
             self.rope_group.push(None);
             self.tension_n.push(None);

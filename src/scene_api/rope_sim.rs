@@ -22,7 +22,9 @@
 
 use indexmap::IndexMap;
 
-use crate::dataset::{FourDData, RopeAnnotation, parse_rope_object_name, rope_world as world};
+use crate::dataset::{
+    FourDData, RopeAnnotation, RopeObjectKind, parse_rope_object_name, rope_world as world,
+};
 use crate::physics::rope::identify::{
     BodyVerdict, Identification, IdentifyError, Observation, PairVerdict, Track, Unknown, identify,
 };
@@ -113,18 +115,15 @@ enum Kind {
 }
 
 fn kind_of(name: &str) -> Option<Kind> {
-    // A grid id may follow (`Red Cube (1 4)`, perception's name for a second red cube).
-    let words = name.split_once(" (").map_or(name, |(head, _)| head);
-    if name.contains("Static Pulley") {
-        Some(Kind::StaticPulley)
-    } else if name.contains("Dynamic Pulley") {
-        Some(Kind::MovablePulley)
-    } else if name.contains("Fixed Point") {
-        Some(Kind::Anchor)
-    } else if words.ends_with("Cube") || words.ends_with("Sphere") {
-        Some(Kind::Load)
-    } else {
-        None
+    // The name grammar, so a grid id after any kind (`Red Cube (1 4)`, perception's name for a
+    // second red cube) reads the same.
+    let parsed = parse_rope_object_name(name)?;
+    match parsed.kind {
+        RopeObjectKind::Pulley if parsed.dynamics == "static" => Some(Kind::StaticPulley),
+        RopeObjectKind::Pulley => Some(Kind::MovablePulley),
+        RopeObjectKind::FixedPoint => Some(Kind::Anchor),
+        RopeObjectKind::Cube | RopeObjectKind::Sphere => Some(Kind::Load),
+        RopeObjectKind::Rope => None,
     }
 }
 
@@ -433,6 +432,23 @@ impl RopeOutcome {
     }
 }
 
+/// The counterfactual baseline of every load on a rope: 0.2 kg times its multiplier (kg); the
+/// masses a build needs when the masses do not matter.
+fn baseline_masses(annotation: &RopeAnnotation) -> IndexMap<String, f64> {
+    annotation
+        .related_groups_in_rope
+        .iter()
+        .flat_map(|group| group.values().flatten())
+        .filter(|name| kind_of(name) == Some(Kind::Load))
+        .map(|name| {
+            (
+                name.clone(),
+                world::BASELINE_MASS_KG * load_multiplier(annotation, name),
+            )
+        })
+        .collect()
+}
+
 /// A rope's name, the names of the elements it runs through, and its turn at each.
 pub(crate) type RopeLayoutPath = (String, Vec<String>, Vec<Option<Turn>>);
 
@@ -442,14 +458,7 @@ pub(crate) fn rope_paths(
     annotation: &RopeAnnotation,
     four_d: Option<&FourDData>,
 ) -> Result<Vec<RopeLayoutPath>, RopeSimulationError> {
-    let placeholders: IndexMap<String, f64> = annotation
-        .related_groups_in_rope
-        .iter()
-        .flat_map(|group| group.values().flatten())
-        .filter(|name| kind_of(name) == Some(Kind::Load))
-        .map(|name| (name.clone(), world::BASELINE_MASS_KG))
-        .collect();
-    let built = build(annotation, four_d, &placeholders)?;
+    let built = build(annotation, four_d, &baseline_masses(annotation))?;
     let network = &built.network;
     Ok(network
         .ropes
@@ -635,19 +644,7 @@ pub fn infer_rope_masses(
     four_d: &FourDData,
 ) -> Result<RopeMassInference, RopeSimulationError> {
     // Placeholder masses for the build; identification tries every candidate.
-    let placeholders: IndexMap<String, f64> = annotation
-        .related_groups_in_rope
-        .iter()
-        .flat_map(|group| group.values().flatten())
-        .filter(|name| kind_of(name) == Some(Kind::Load))
-        .map(|name| {
-            (
-                name.clone(),
-                world::BASELINE_MASS_KG * load_multiplier(annotation, name),
-            )
-        })
-        .collect();
-    let built = build(annotation, Some(four_d), &placeholders)?;
+    let built = build(annotation, Some(four_d), &baseline_masses(annotation))?;
     // Tracked heights of the mechanism's bodies (loads, movable pulleys), per body.
     let tracked: Vec<(usize, Vec<f64>)> = built
         .bodies
@@ -697,11 +694,12 @@ pub fn infer_rope_masses(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::dataset::RopeChange;
 
-    fn sample() -> (RopeAnnotation, FourDData) {
+    /// The real video's annotations and 4-D record.
+    pub(crate) fn sample() -> (RopeAnnotation, FourDData) {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/pulley_group/0");
         (
             RopeAnnotation::load(&dir.join("outputs.json")).unwrap(),

@@ -198,7 +198,8 @@ fn pieces(units: f64) -> usize {
     }
 }
 
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+/// Euclidean distance, units.
+pub(crate) fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
