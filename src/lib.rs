@@ -22,6 +22,7 @@ pub mod program;
 pub mod prompt;
 pub mod report;
 pub mod sandbox;
+pub mod scenarios;
 pub mod scene_api;
 pub mod score;
 pub mod synth;

@@ -26,7 +26,7 @@ use super::pipeline::{sandbox_budgets, start_pool};
 use super::settings::{BenchLlmSettings, BenchSettings, Budgets};
 use crate::dataset::engine::generate_rope_questions;
 use crate::dataset::{Question, QuestionId, RopeAnnotation, Scenario, VideoFolder, VideoId};
-use crate::program::builtin::write_program;
+use crate::program::builtin::{rope, write_program};
 use crate::sandbox::{
     self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec,
 };
@@ -56,7 +56,7 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
             )
             .map_err(user_error)?;
             for (_, option) in question.units() {
-                if let Ok(source) = write_program(&question, option)
+                if let Ok(source) = write_program(&question, option, &rope::WRITER)
                     && !programs.iter().any(|(_, s)| *s == source)
                 {
                     programs.push((family.clone(), source));

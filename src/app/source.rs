@@ -11,6 +11,7 @@ use serde_json::{Value, json};
 use super::error::{AppError, Classify as _};
 use crate::dataset::{ChoiceOption, Question};
 use crate::program::{CacheEntry, Program, ProgramCache, ProgramOrigin, builtin, cache_key};
+use crate::scenarios;
 use crate::score::{Stage, UnitError, Usage};
 
 /// One earlier attempt shown to the model in a repair turn.
@@ -140,6 +141,16 @@ impl CacheAccess {
     }
 }
 
+/// The versions of every scenario's writer, in table order, joined by `+` (`builtin-rope-v1`):
+/// a run's identity changes when any of them does.
+fn writer_versions() -> String {
+    scenarios::all()
+        .iter()
+        .filter_map(|row| row.writer.map(|w| w.version))
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
 /// The builtin writer as a program source.
 #[derive(Debug, Clone)]
 pub(crate) struct BuiltinSource {
@@ -153,9 +164,10 @@ pub(crate) const BUILTIN_SOURCE: &str = "builtin";
 impl BuiltinSource {
     fn obtain(&self, request: &ProgramRequest<'_>) -> Result<Obtain, AppError> {
         let question = request.question;
+        let writer = scenarios::parts(question.scenario).writer;
         let key_material = json!({
             "source": BUILTIN_SOURCE,
-            "writer": builtin::WRITER_VERSION,
+            "writer": writer.map_or("", |w| w.version),
             "scenario": question.scenario,
             "question": question.title,
             "option": request.option.map(|o| o.text.as_str()),
@@ -177,10 +189,12 @@ impl BuiltinSource {
             Lookup::OfflineMiss(error) => return Ok(Err(error.into())),
             Lookup::Miss => {}
         }
-        let written = if request.whole_question {
-            builtin::write_question_program(question)
-        } else {
-            builtin::write_program(question, request.option)
+        let written = match writer {
+            None => Err(builtin::WriterError::Scenario(question.scenario)),
+            Some(writer) if request.whole_question => {
+                builtin::write_question_program(question, writer)
+            }
+            Some(writer) => builtin::write_program(question, request.option, writer),
         };
         let source = match written {
             Ok(source) => source,
@@ -231,6 +245,6 @@ impl ProgramSource for BuiltinSource {
     }
 
     fn describe(&self) -> Value {
-        json!({ "source": BUILTIN_SOURCE, "writer": builtin::WRITER_VERSION })
+        json!({ "source": BUILTIN_SOURCE, "writer": writer_versions() })
     }
 }

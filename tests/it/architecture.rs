@@ -14,12 +14,13 @@ const LAYERS: &[(&str, u32)] = &[
     ("llm", 3),
     ("program", 4),
     ("scene_api", 5),
-    ("sandbox", 6),
-    ("answer", 7),
-    ("score", 8),
-    ("report", 9),
-    ("app", 10),
-    ("cli", 11),
+    ("scenarios", 6),
+    ("sandbox", 7),
+    ("answer", 8),
+    ("score", 9),
+    ("report", 10),
+    ("app", 11),
+    ("cli", 12),
 ];
 
 fn layer(module: &str) -> Option<u32> {

@@ -14,6 +14,7 @@ use contphy_eval::dataset::{Question, load_question_file};
 use contphy_eval::llm::mock::{MOCK_MODEL, MockReply, MockRequest, MockServer, MockServerBuilder};
 use contphy_eval::program::builtin::{write_program, write_question_program};
 use contphy_eval::prompt::{PromptMode, render};
+use contphy_eval::scenarios;
 use serde_json::Value;
 
 use crate::support::{root, stderr, stdout};
@@ -68,10 +69,11 @@ fn perfect_answers() -> Arc<BTreeMap<String, String>> {
         for (mode, option) in units {
             let option = option.map(|i| &question.options[i]);
             let prompt = render(&question, option, mode).unwrap();
+            let writer = scenarios::parts(question.scenario).writer.unwrap();
             let program = if mode == PromptMode::PerQuestion {
-                write_question_program(&question).unwrap()
+                write_question_program(&question, writer).unwrap()
             } else {
-                write_program(&question, option).unwrap()
+                write_program(&question, option, writer).unwrap()
             };
             let completion = format!("Here is the program.\n\n```python\n{program}\n```\n");
             answers.insert(prompt.user, completion);

@@ -21,3 +21,4 @@ mod pipeline;
 mod prompt;
 mod shards;
 mod support;
+mod unchanged;

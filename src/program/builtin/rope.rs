@@ -1,134 +1,16 @@
-//! The built-in program writer: turns each rope question (and each option of a choice question,
-//! "question | option") into a Python program against the scene API.
-//!
-//! It stands in for the LLM of ContPRO when no model is given, so runs are deterministic and
-//! offline. It parses the public engine's templates (`contphy/FORMAT.md` §7.1) and writes the kind
-//! of program the paper's listings show (`eg1`): find the objects, query or simulate, compare.
-//! The programs are real Python that goes through the sandbox; nothing is answered here.
+//! The builtin writer's rope programs: the public engine's templates (the rope templates of the
+//! data format) parsed into programs that find the objects, query or simulate, and compare.
 
-use std::fmt::Write as _;
+use super::{Writer, WriterError, literal, object_phrase, unrecognised};
 
-use crate::dataset::{ChoiceOption, Question, Scenario};
+/// The rope writer.
+pub const WRITER: Writer = Writer {
+    version: "builtin-rope-v1",
+    open_body: open_ended_body,
+    option_body: choice_body,
+};
 
-/// Version of the writer, part of the cache key of its programs.
-pub const WRITER_VERSION: &str = "builtin-rope-v1";
-
-/// Why the writer cannot produce a program for a question.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum WriterError {
-    /// The question's text matches none of the templates the writer knows.
-    #[error("the builtin writer does not recognise the {what} `{text}`")]
-    Unrecognised {
-        /// `question`, `option`.
-        what: &'static str,
-        /// The text.
-        text: String,
-    },
-    /// The scenario has no templates in the builtin writer.
-    #[error("the builtin writer knows rope questions only, not {0} questions")]
-    Scenario(Scenario),
-}
-
-fn unrecognised(what: &'static str, text: &str) -> WriterError {
-    WriterError::Unrecognised {
-        what,
-        text: text.to_string(),
-    }
-}
-
-/// Writes the program for `question`, or for one of its options.
-pub fn write_program(
-    question: &Question,
-    option: Option<&ChoiceOption>,
-) -> Result<String, WriterError> {
-    if question.scenario != Scenario::Rope {
-        return Err(WriterError::Scenario(question.scenario));
-    }
-    let title = question.title.as_str();
-    let body = match option {
-        None => open_ended_body(title)?,
-        Some(option) => choice_body(title, &option.text)?,
-    };
-    let mut program = String::new();
-    let header = match option {
-        None => title.to_string(),
-        Some(option) => format!("{title} | {}", option.text),
-    };
-    // The header is a comment: strip line breaks so data cannot escape it.
-    let _ = writeln!(program, "# {}", header.replace(['\n', '\r'], " "));
-    program.push_str("\ndef execute_command(video):\n");
-    program.push_str("    rope_scene = SoftScene(video, 'rope')\n");
-    program.push_str(&body);
-    Ok(program)
-}
-
-/// Writes one program for a whole choice question (the `--per-question` mode): it checks every
-/// option with that option's program and returns the letters of those that hold (`"A C"`).
-/// Open-ended questions get their usual program.
-pub fn write_question_program(question: &Question) -> Result<String, WriterError> {
-    if question.options.is_empty() {
-        return write_program(question, None);
-    }
-    if question.scenario != Scenario::Rope {
-        return Err(WriterError::Scenario(question.scenario));
-    }
-    let title = question.title.as_str();
-    let mut program = String::new();
-    let _ = writeln!(program, "# {}", title.replace(['\n', '\r'], " "));
-    for option in &question.options {
-        let _ = writeln!(
-            program,
-            "\n# {}. {}",
-            option.letter,
-            option.text.replace(['\n', '\r'], " ")
-        );
-        let _ = writeln!(
-            program,
-            "def option_{}(video):",
-            option.letter.to_ascii_lowercase()
-        );
-        program.push_str("    rope_scene = SoftScene(video, 'rope')\n");
-        program.push_str(&choice_body(title, &option.text)?);
-    }
-    program.push_str("\ndef execute_command(video):\n    chosen = []\n");
-    for option in &question.options {
-        let _ = writeln!(
-            program,
-            "    if option_{}(video) == \"yes\":\n        chosen.append(\"{}\")",
-            option.letter.to_ascii_lowercase(),
-            option.letter
-        );
-    }
-    program.push_str("    return \" \".join(chosen)\n");
-    Ok(program)
-}
-
-/// A Python string literal for `text` (escaped, so question text cannot inject code).
-fn literal(text: &str) -> String {
-    let mut out = String::with_capacity(text.len() + 2);
-    out.push('"');
-    for c in text.chars() {
-        match c {
-            '\\' => out.push_str("\\\\"),
-            '"' => out.push_str("\\\""),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            c if c.is_control() => {
-                let _ = write!(out, "\\u{:04x}", u32::from(c));
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// Strips a leading "the " from an object phrase.
-fn object_phrase(text: &str) -> &str {
-    let text = text.trim();
-    text.strip_prefix("the ").unwrap_or(text).trim()
-}
-
+/// The body for an open rope question: a comparison, a count or an existence check.
 fn open_ended_body(title: &str) -> Result<String, WriterError> {
     if let Some(rest) = title.strip_prefix("Is the mass of the ") {
         return comparison_body("mass", rest, title);
@@ -255,6 +137,7 @@ fn counterfactual_body(changed: &str, change: &str, target: &str, outcome: &Outc
     )
 }
 
+/// The body for one option of a rope choice question.
 fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
     let lower_title = title.to_lowercase();
     // Goal-driven: "If we want the X to <goal>, what can we do?" | "Increase the mass of the Y".
@@ -365,7 +248,15 @@ fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::{QuestionId, QuestionRecord, VideoId};
+    use crate::dataset::{Question, QuestionId, QuestionRecord, Scenario, VideoId};
+    use crate::program::builtin::{write_program as write, write_question_program};
+
+    fn write_program(
+        question: &Question,
+        option: Option<&crate::dataset::ChoiceOption>,
+    ) -> Result<String, WriterError> {
+        write(question, option, &WRITER)
+    }
 
     fn question(text: &str, answer: &str, family: &str, answer_type: &str) -> Question {
         let record = QuestionRecord::new(text, answer, family, answer_type);
@@ -419,7 +310,7 @@ mod tests {
             "rope_counterfactual",
             "multiple_choice",
         );
-        let program = write_question_program(&q).unwrap();
+        let program = write_question_program(&q, &WRITER).unwrap();
         assert!(program.contains("def option_a(video):"), "{program}");
         assert!(program.contains("def option_b(video):"), "{program}");
         assert!(
