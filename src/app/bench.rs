@@ -24,8 +24,9 @@ use serde_json::{Value, json};
 use super::error::{AppError, Classify as _, user_error};
 use super::pipeline::{sandbox_budgets, start_pool};
 use super::settings::{BenchLlmSettings, BenchSettings, Budgets};
-use crate::dataset::engine::generate_rope_questions;
-use crate::dataset::{Question, QuestionId, RopeAnnotation, Scenario, VideoFolder, VideoId};
+use crate::dataset::engine::rope::generate_questions;
+use crate::dataset::rope::RopeAnnotation;
+use crate::dataset::{Question, QuestionId, Scenario, VideoFolder, VideoId};
 use crate::program::builtin::{rope, write_program};
 use crate::sandbox::{
     self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec,
@@ -44,7 +45,7 @@ const ROUNDS: usize = 5;
 pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppError> {
     let video = VideoFolder::open(&settings.video, Some(Scenario::Rope)).user()?;
     let annotation = RopeAnnotation::load(&video.outputs_json()).user()?;
-    let generated = generate_rope_questions(&video.id, &annotation, 0).user()?;
+    let generated = generate_questions(&video.id, &annotation, 0).user()?;
     let mut programs: Vec<(String, String)> = Vec::new();
     for (family, records) in &generated.question_dict {
         for (index, record) in records.iter().enumerate() {

@@ -23,7 +23,8 @@ use serde_json::{Value, json};
 
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
-use crate::dataset::{DataRoot, FourDData, RopeAnnotation, Scenario};
+use crate::dataset::rope::RopeAnnotation;
+use crate::dataset::{DataRoot, FourDData, Scenario};
 use crate::physics::rope::identify::{PairVerdict, RatioClass, Undecidable};
 use crate::scene_api::rope_sim::infer_rope_masses;
 use crate::util::{derive_seed, seeded_rng};

@@ -12,6 +12,7 @@ use super::settings::ExecSettings;
 use crate::answer::{interpret, is_correct};
 use crate::dataset::{VideoFolder, load_question_file, read_validity};
 use crate::sandbox::{Unit, scene_host_spec};
+use crate::scenarios;
 use crate::scene_api::VideoSpec;
 use crate::score::{Stage, UnitError};
 
@@ -26,7 +27,8 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
     let source = fs_err::read_to_string(&settings.program).user()?;
     let question = match (&settings.question_id, &settings.questions) {
         (Some(id), Some(path)) => {
-            let loaded = load_question_file(path, Some(video.scenario)).user()?;
+            let loaded =
+                load_question_file(path, Some(video.scenario), scenarios::families()).user()?;
             let question = loaded
                 .questions
                 .into_iter()

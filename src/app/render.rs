@@ -15,6 +15,7 @@ use super::error::{AppError, Classify as _, user_error};
 use super::settings::RenderSettings;
 use crate::dataset::{DataRoot, Question, Split, load_question_file, sampled_file_path};
 use crate::prompt::{PromptMode, PromptSet};
+use crate::scenarios;
 
 pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
     let files = question_files(settings)?;
@@ -22,7 +23,7 @@ pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
     let mut example_ids = Vec::new();
     let mut found: Option<Question> = None;
     for (path, scenario) in &files {
-        let source = load_question_file(path, *scenario).user()?;
+        let source = load_question_file(path, *scenario, scenarios::families()).user()?;
         seen += source.questions.len();
         for question in source.questions {
             if question.id.0 == settings.question_id {

@@ -22,6 +22,7 @@ use crate::dataset::{
 use crate::llm::{ClientConfig, Prices, SamplingParams};
 use crate::program::ProgramCache;
 use crate::report::{ReportMeta, render_run_report};
+use crate::scenarios;
 use crate::scene_api::VideoSpec;
 use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Usage, score};
 use crate::util::content_hash;
@@ -487,7 +488,7 @@ fn load_questions(
     let mut sources = Vec::new();
     let mut files = Vec::new();
     for (path, scenario) in paths {
-        let source = load_question_file(&path, scenario).user()?;
+        let source = load_question_file(&path, scenario, scenarios::families()).user()?;
         if !settings.scenarios.is_empty() && !settings.scenarios.contains(&source.scenario) {
             continue;
         }
@@ -505,7 +506,11 @@ fn load_priors(root: &DataRoot, questions: &[Question]) -> Result<Priors, AppErr
     for scenario in scenarios {
         let path = sampled_file_path(root, scenario, Split::Train);
         if path.is_file() {
-            train.extend(load_question_file(&path, Some(scenario)).user()?.questions);
+            train.extend(
+                load_question_file(&path, Some(scenario), scenarios::families())
+                    .user()?
+                    .questions,
+            );
         }
     }
     Ok(Priors::from_train(&train))

@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use super::{QuestionError, Scenario};
+
 /// A problem with dataset files: missing, unreadable, malformed, truncated or inconsistent.
 #[derive(Debug, thiserror::Error)]
 pub enum DatasetError {
@@ -66,15 +68,25 @@ pub enum DatasetError {
         path: PathBuf,
         /// The question.
         question_id: String,
-        /// What is wrong.
-        problem: String,
+        /// What is wrong (shown in the message, so it is not also a source).
+        problem: QuestionError,
     },
     /// The scenario of a question file cannot be told from its name, folder or families.
     #[error(
-        "cannot tell the scenario of `{path}`: name it `<scenario>_<split>.json` (e.g. `pulley_group_test.json`), put it in a scenario folder, or pass --scenario"
+        "cannot tell the scenario of `{path}`: name it `<scenario folder>_<split>.json` (scenario folders: {folders}), put it in a scenario folder, or pass --scenario",
+        folders = Scenario::folder_names()
     )]
     UnknownScenario {
         /// The question file.
+        path: PathBuf,
+    },
+    /// A video folder given directly is not inside a scenario folder, and no scenario was given.
+    #[error(
+        "cannot tell the scenario of video folder `{path}`: its parent folder is none of {folders}; pass --scenario",
+        folders = Scenario::folder_names()
+    )]
+    UnknownVideoScenario {
+        /// The video folder.
         path: PathBuf,
     },
 }

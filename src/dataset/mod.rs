@@ -1,39 +1,48 @@
 //! The ContPhy dataset: data roots, video folders, annotations and question files.
 //!
-//! Inputs are files laid out as in the public release (`DATA/pulley_group/<video_id>/outputs.json`
-//! and likewise `fluid_slides`, `cloth_collision`, `soft_body`; question files in the engine's
-//! per-video form or the sampled list form, see `contphy/FORMAT.md` §6). Outputs are typed values:
-//! [`Question`], [`VideoFolder`], [`RopeAnnotation`], [`FourDData`]. Every malformed, missing or
-//! truncated input becomes a [`DatasetError`] that names the file and the field.
+//! Inputs are files laid out as in the public release (`DATA/<scenario folder>/<video_id>/
+//! outputs.json`, question files in the engine's per-video form or the sampled list form; see
+//! `docs/data/`). Outputs are typed values: [`Question`], [`VideoFolder`], [`FourDData`], and per
+//! scenario its annotations in `dataset/<scenario>/` ([`rope::RopeAnnotation`]). Every malformed,
+//! missing or truncated input becomes a [`DatasetError`] that names the file and the field.
 //!
-//! The rope question engine (a Rust re-implementation of the public one) lives in [`engine`].
-//! This module depends only on `util`.
+//! Shared here: the [`Scenario`] list, the [`Vocabulary`] type each scenario fills in, the camera
+//! calibration, 4-D data, segmentation records, and the question engine's shared parts
+//! ([`engine`]). This module depends only on `util`.
 
+pub mod ball;
+mod camera;
+pub mod cloth;
 pub mod engine;
 mod error;
 mod fields;
+pub mod fluid;
 mod four_d;
 mod question;
 mod question_file;
-mod rope;
+pub mod rope;
 mod scenario;
 mod segmentation;
 mod video;
+pub mod vocabulary;
 
+pub use camera::Camera;
 pub use error::DatasetError;
 pub use four_d::{FourDData, RigidBodyTrack, SoftBodyTrack};
 pub use question::{
-    AnswerType, Category, ChoiceOption, Family, Question, QuestionId, QuestionRecord, Split,
-    VideoId,
+    AnswerType, Category, ChoiceOption, Family, Question, QuestionError, QuestionId,
+    QuestionRecord, Split, VideoId,
 };
 pub use question_file::{
-    PerVideoQuestions, QuestionSource, load_question_file, questions_file_name, sampled_file_path,
-    write_per_video_file, write_sampled_file,
+    FamilyIndex, PerVideoQuestions, QuestionSource, load_question_file, questions_file_name,
+    sampled_file_path, write_per_video_file, write_sampled_file,
 };
-pub use rope::{
-    Camera, RopeAnnotation, RopeChange, RopeCounterfactual, RopeCounterfactualPair, RopeObjectKind,
-    RopeObjectName, parse_rope_object_name, world as rope_world,
-};
-pub use scenario::Scenario;
+pub use scenario::{Scenario, UnknownScenario};
 pub use segmentation::{PaintedInstance, SegmentationRecords};
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};
+pub use vocabulary::Vocabulary;
+
+// Old paths the rope generator still uses while its files are being split; removed once it
+// imports from `dataset::rope`.
+pub use rope::parse_rope_object_name;
+pub use rope::world as rope_world;

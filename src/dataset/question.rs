@@ -1,6 +1,6 @@
 //! Questions: the on-disk record of the question engine and its typed, validated form.
 //!
-//! A record (`contphy/FORMAT.md` §6.1–6.2) keeps choice options inside the question text
+//! A record (`docs/data/questions.md`) keeps choice options inside the question text
 //! (`"title\nA. …\nB. …"`) and the answer as sorted letters (`"A C"`). [`Question`] splits that into
 //! a title and [`ChoiceOption`]s with their gold truth, which is what per-option scoring needs.
 
@@ -242,6 +242,62 @@ impl QuestionRecord {
     }
 }
 
+/// Why a question record is not a valid question; the caller adds the file and question id.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum QuestionError {
+    /// `answer_type` is none of the three.
+    #[error("unknown answer_type `{0}` (expected open_ended, single_choice or multiple_choice)")]
+    AnswerType(String),
+    /// `split` is none of the three.
+    #[error("unknown split `{0}` (expected train, val or test)")]
+    Split(String),
+    /// The text before the option lines is empty.
+    #[error("the question text is empty")]
+    EmptyQuestion,
+    /// An open question without an answer.
+    #[error("the answer is empty")]
+    EmptyAnswer,
+    /// A single-choice answer names no option or several.
+    #[error("single_choice answer `{0}` must name exactly one option")]
+    NotSingle(String),
+    /// An option line is not `A. text`.
+    #[error("option line `{0}` does not start with a letter and `. `")]
+    OptionLine(String),
+    /// Option letters are not `A`, `B`, … in order.
+    #[error("option `{found}` is out of order (expected `{expected}`)")]
+    OptionOrder {
+        /// The letter found.
+        found: char,
+        /// The letter expected there.
+        expected: char,
+    },
+    /// A choice question without options.
+    #[error("a choice question has no `A. …` option lines")]
+    NoOptions,
+    /// The answer is not letters separated by spaces.
+    #[error("answer `{0}` must be option letters separated by spaces")]
+    AnswerLetters(String),
+    /// The answer names a letter no option has.
+    #[error("answer `{answer}` names option `{letter}`, which does not exist")]
+    UnknownLetter {
+        /// The answer.
+        answer: String,
+        /// The letter.
+        letter: char,
+    },
+    /// Two questions of one file share an id.
+    #[error("the id appears more than once")]
+    DuplicateId,
+    /// The answer names a letter twice.
+    #[error("answer `{answer}` repeats option `{letter}`")]
+    RepeatedLetter {
+        /// The answer.
+        answer: String,
+        /// The letter.
+        letter: char,
+    },
+}
+
 /// One lettered option of a choice question.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ChoiceOption {
@@ -281,30 +337,24 @@ pub struct Question {
 impl Question {
     /// Validates a record and splits it into title, options and gold truth.
     ///
-    /// Errors are plain messages; the caller adds the file and question id.
     pub fn from_record(
         id: QuestionId,
         video_id: VideoId,
         scenario: Scenario,
         record: QuestionRecord,
-    ) -> Result<Question, String> {
-        let answer_type = AnswerType::parse(&record.answer_type).ok_or_else(|| {
-            format!(
-                "unknown answer_type `{}` (expected open_ended, single_choice or multiple_choice)",
-                record.answer_type
-            )
-        })?;
-        let split =
-            match record.split.as_deref() {
-                None => None,
-                Some(text) => Some(Split::parse(text).ok_or_else(|| {
-                    format!("unknown split `{text}` (expected train, val or test)")
-                })?),
-            };
+    ) -> Result<Question, QuestionError> {
+        let answer_type = AnswerType::parse(&record.answer_type)
+            .ok_or_else(|| QuestionError::AnswerType(record.answer_type.clone()))?;
+        let split = match record.split.as_deref() {
+            None => None,
+            Some(text) => {
+                Some(Split::parse(text).ok_or_else(|| QuestionError::Split(text.to_string()))?)
+            }
+        };
         let mut lines = record.question.split('\n');
         let title = lines.next().unwrap_or_default().trim().to_string();
         if title.is_empty() {
-            return Err("the question text is empty".to_string());
+            return Err(QuestionError::EmptyQuestion);
         }
         let (options, answer) = if answer_type.is_choice() {
             let options = parse_options(lines)?;
@@ -318,10 +368,7 @@ impl Question {
                 })
                 .collect();
             if answer_type == AnswerType::SingleChoice && letters.len() != 1 {
-                return Err(format!(
-                    "single_choice answer `{}` must name exactly one option",
-                    record.answer
-                ));
+                return Err(QuestionError::NotSingle(record.answer.clone()));
             }
             let answer = letters
                 .iter()
@@ -332,7 +379,7 @@ impl Question {
         } else {
             let answer = normalize_open_answer(&record.answer);
             if answer.is_empty() {
-                return Err("the answer is empty".to_string());
+                return Err(QuestionError::EmptyAnswer);
             }
             (Vec::new(), answer)
         };
@@ -383,7 +430,9 @@ pub(crate) fn normalize_open_answer(text: &str) -> String {
         .to_lowercase()
 }
 
-fn parse_options<'a>(lines: impl Iterator<Item = &'a str>) -> Result<Vec<(char, String)>, String> {
+fn parse_options<'a>(
+    lines: impl Iterator<Item = &'a str>,
+) -> Result<Vec<(char, String)>, QuestionError> {
     let mut options = Vec::new();
     for line in lines {
         let line = line.trim_end();
@@ -393,40 +442,44 @@ fn parse_options<'a>(lines: impl Iterator<Item = &'a str>) -> Result<Vec<(char, 
         let mut chars = line.chars();
         let (Some(letter), Some('.'), Some(' ')) = (chars.next(), chars.next(), chars.next())
         else {
-            return Err(format!(
-                "option line `{line}` does not start with a letter and `. `"
-            ));
+            return Err(QuestionError::OptionLine(line.to_string()));
         };
         let expected = char::from(b'A' + u8::try_from(options.len()).unwrap_or(u8::MAX).min(25));
         if letter != expected {
-            return Err(format!(
-                "option `{letter}` is out of order (expected `{expected}`)"
-            ));
+            return Err(QuestionError::OptionOrder {
+                found: letter,
+                expected,
+            });
         }
         options.push((letter, chars.as_str().trim().to_string()));
     }
     if options.is_empty() {
-        return Err("a choice question has no `A. …` option lines".to_string());
+        return Err(QuestionError::NoOptions);
     }
     Ok(options)
 }
 
-fn parse_answer_letters(answer: &str, options: &[(char, String)]) -> Result<Vec<char>, String> {
+fn parse_answer_letters(
+    answer: &str,
+    options: &[(char, String)],
+) -> Result<Vec<char>, QuestionError> {
     let mut letters = Vec::new();
     for token in answer.split_whitespace() {
         let mut chars = token.chars();
         let (Some(letter), None) = (chars.next(), chars.next()) else {
-            return Err(format!(
-                "answer `{answer}` must be option letters separated by spaces"
-            ));
+            return Err(QuestionError::AnswerLetters(answer.to_string()));
         };
         if !options.iter().any(|(l, _)| *l == letter) {
-            return Err(format!(
-                "answer `{answer}` names option `{letter}`, which does not exist"
-            ));
+            return Err(QuestionError::UnknownLetter {
+                answer: answer.to_string(),
+                letter,
+            });
         }
         if letters.contains(&letter) {
-            return Err(format!("answer `{answer}` repeats option `{letter}`"));
+            return Err(QuestionError::RepeatedLetter {
+                answer: answer.to_string(),
+                letter,
+            });
         }
         letters.push(letter);
     }
@@ -442,7 +495,7 @@ mod tests {
         QuestionRecord::new(question, answer, family, answer_type)
     }
 
-    fn parse(record: QuestionRecord) -> Result<Question, String> {
+    fn parse(record: QuestionRecord) -> Result<Question, QuestionError> {
         Question::from_record(
             QuestionId("q".into()),
             VideoId("0".into()),
@@ -511,7 +564,7 @@ mod tests {
             ),
         ];
         for (record, expected) in cases {
-            let error = parse(record).unwrap_err();
+            let error = parse(record).unwrap_err().to_string();
             assert!(
                 error.contains(expected),
                 "`{error}` does not contain `{expected}`"

@@ -1,4 +1,4 @@
-//! Question files in both engine forms (`contphy/FORMAT.md` §6):
+//! Question files in both engine forms (`docs/data/questions.md`):
 //!
 //! * per video: `{"video_id": "0", "question_dict": {"mass": [record, ...], ...}}`, as the engine
 //!   writes `DATA/pulley_group/0.json`;
@@ -14,7 +14,8 @@ use serde_json::Value;
 
 use super::fields::read_json;
 use super::{
-    DataRoot, DatasetError, Question, QuestionId, QuestionRecord, Scenario, Split, VideoId,
+    DataRoot, DatasetError, Question, QuestionError, QuestionId, QuestionRecord, Scenario, Split,
+    VideoId,
 };
 
 /// The per-video engine output.
@@ -47,11 +48,16 @@ pub fn sampled_file_path(root: &DataRoot, scenario: Scenario, split: Split) -> P
     root.dir().join(questions_file_name(scenario, split))
 }
 
+/// Each scenario's family keys (the scenario table's engines), to tell a question file's
+/// scenario from its records.
+pub type FamilyIndex<'a> = &'a [(Scenario, &'static [&'static str])];
+
 /// Loads a question file of either form. `scenario` overrides detection from the file name, its
-/// folder or its families.
+/// folder, or its families (the one scenario of `families` that has every family in the file).
 pub fn load_question_file(
     path: &Path,
     scenario: Option<Scenario>,
+    families: FamilyIndex<'_>,
 ) -> Result<QuestionSource, DatasetError> {
     let value = read_json(path)?;
     let records = match &value {
@@ -115,6 +121,7 @@ pub fn load_question_file(
         None => detect_scenario(
             path,
             records.iter().map(|(_, _, r)| r.question_family.as_str()),
+            families,
         )
         .ok_or_else(|| DatasetError::UnknownScenario {
             path: path.to_path_buf(),
@@ -127,7 +134,7 @@ pub fn load_question_file(
             return Err(DatasetError::Question {
                 path: path.to_path_buf(),
                 question_id: id.0,
-                problem: "the id appears more than once".to_string(),
+                problem: QuestionError::DuplicateId,
             });
         }
         let question =
@@ -147,10 +154,12 @@ pub fn load_question_file(
     })
 }
 
-/// The scenario from `pulley_group_test.json`, `pulley_group/0.json`, or the family names.
+/// The scenario from the file name (`<scenario folder>_test.json`), its folder
+/// (`<scenario folder>/0.json`), or the family names.
 fn detect_scenario<'a>(
     path: &Path,
-    mut families: impl Iterator<Item = &'a str>,
+    file_families: impl Iterator<Item = &'a str>,
+    families: FamilyIndex<'_>,
 ) -> Option<Scenario> {
     let stem = path
         .file_stem()
@@ -169,10 +178,20 @@ fn detect_scenario<'a>(
     if let Some(scenario) = parent.as_deref().and_then(Scenario::from_folder_name) {
         return Some(scenario);
     }
-    // Only the rope families are public; their names tell the scenario.
-    families
-        .any(|family| family.starts_with("rope_") || family == "tension")
-        .then_some(Scenario::Rope)
+    // The families tell the scenario when exactly one scenario has all of them (several
+    // scenarios share property family names, so a file of those alone stays undecided).
+    let in_file: BTreeSet<&str> = file_families.collect();
+    if in_file.is_empty() {
+        return None;
+    }
+    let mut candidates = families
+        .iter()
+        .filter(|(_, known)| in_file.iter().all(|family| known.contains(family)))
+        .map(|(scenario, _)| *scenario);
+    match (candidates.next(), candidates.next()) {
+        (Some(scenario), None) => Some(scenario),
+        _ => None,
+    }
 }
 
 /// Writes the per-video engine output (4-space indented, as the public engine's `json.dump`).
@@ -207,6 +226,21 @@ fn to_pretty_json(value: &impl Serialize) -> Vec<u8> {
 mod tests {
     use super::*;
 
+    const FAMILIES: FamilyIndex<'static> = &[
+        (
+            Scenario::Rope,
+            &[
+                "mass",
+                "tension",
+                "shape",
+                "color",
+                "existence",
+                "rope_counterfactual",
+            ],
+        ),
+        (Scenario::Cloth, &["elasticity", "bending", "shape"]),
+    ];
+
     #[test]
     fn both_forms_load_and_scenario_is_detected() {
         let dir = tempfile::tempdir().unwrap();
@@ -220,7 +254,7 @@ mod tests {
                  "program": ["cube"], "answer_type": "open_ended"}]}}"#,
         )
         .unwrap();
-        let source = load_question_file(&per_video, None).unwrap();
+        let source = load_question_file(&per_video, None, FAMILIES).unwrap();
         assert_eq!(source.scenario, Scenario::Rope);
         assert_eq!(source.questions[0].id.0, "0/shape/0");
         assert_eq!(source.questions[0].answer, "2");
@@ -233,10 +267,43 @@ mod tests {
                 "qtype": "existence", "video_id": "7", "question_id": "00003", "split": "test"}]"#,
         )
         .unwrap();
-        let source = load_question_file(&sampled, None).unwrap();
+        let source = load_question_file(&sampled, None, FAMILIES).unwrap();
         assert_eq!(source.questions[0].id.0, "00003");
         assert_eq!(source.questions[0].video_id.0, "7");
         assert_eq!(source.questions[0].split, Some(Split::Test));
+    }
+
+    #[test]
+    fn families_tell_the_scenario_only_when_one_scenario_has_them_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("questions.json");
+        let file = |families: &[&str]| {
+            let records: Vec<String> = families
+                .iter()
+                .enumerate()
+                .map(|(index, family)| {
+                    format!(
+                        r#"{{"question": "Q?", "answer": "no", "question_family": "{family}", "answer_type": "open_ended", "video_id": "0", "question_id": "{index}"}}"#
+                    )
+                })
+                .collect();
+            fs_err::write(&path, format!("[{}]", records.join(","))).unwrap();
+        };
+        file(&["mass", "existence"]);
+        let source = load_question_file(&path, None, FAMILIES).unwrap();
+        assert_eq!(source.scenario, Scenario::Rope);
+        // `shape` is a family of two scenarios; `density` of none listed.
+        for families in [&["shape"][..], &["mass", "density"][..]] {
+            file(families);
+            let error = load_question_file(&path, None, FAMILIES).unwrap_err();
+            assert!(
+                error.to_string().starts_with("cannot tell the scenario of"),
+                "{families:?}: {error}"
+            );
+        }
+        file(&["shape"]);
+        let given = load_question_file(&path, Some(Scenario::Cloth), FAMILIES).unwrap();
+        assert_eq!(given.scenario, Scenario::Cloth);
     }
 
     #[test]
@@ -269,7 +336,9 @@ mod tests {
         for (name, text, expected) in cases {
             let path = dir.path().join(name);
             fs_err::write(&path, text).unwrap();
-            let error = load_question_file(&path, None).unwrap_err().to_string();
+            let error = load_question_file(&path, None, FAMILIES)
+                .unwrap_err()
+                .to_string();
             assert!(
                 error.contains(expected),
                 "{name}: `{error}` lacks `{expected}`"

@@ -1,4 +1,8 @@
-//! The four ContPhy scenarios and their names on disk and on the command line.
+//! The four ContPhy scenarios and their names on disk, on the command line and in reports.
+//!
+//! This is the one list of the benchmark's scenarios; what each scenario brings (its engine,
+//! scene backend, generator, writer, vocabulary and models) is its row in the scenario table
+//! (`scenarios`).
 
 use std::fmt;
 use std::str::FromStr;
@@ -72,18 +76,33 @@ impl fmt::Display for Scenario {
     }
 }
 
+/// A scenario name that is none of the four.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown scenario `{0}`: expected one of {names}", names = Scenario::names())]
+pub struct UnknownScenario(pub String);
+
+impl Scenario {
+    /// The short names, comma separated (`rope, fluid, cloth, ball`).
+    pub fn names() -> String {
+        Scenario::ALL.map(Scenario::name).join(", ")
+    }
+
+    /// The release folder names, comma separated.
+    pub fn folder_names() -> String {
+        Scenario::ALL.map(Scenario::folder_name).join(", ")
+    }
+}
+
 /// Accepts the short name or the release folder name.
 impl FromStr for Scenario {
-    type Err = String;
+    type Err = UnknownScenario;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
         let lower = text.trim().to_ascii_lowercase();
         Scenario::ALL
             .into_iter()
             .find(|s| s.name() == lower || s.folder_name() == lower)
-            .ok_or_else(|| {
-                format!("unknown scenario `{text}`: expected one of rope, fluid, cloth, ball")
-            })
+            .ok_or_else(|| UnknownScenario(text.to_string()))
     }
 }
 
@@ -105,7 +124,7 @@ mod tests {
             );
         }
         assert_eq!(
-            "pulleys".parse::<Scenario>().unwrap_err(),
+            "pulleys".parse::<Scenario>().unwrap_err().to_string(),
             "unknown scenario `pulleys`: expected one of rope, fluid, cloth, ball"
         );
     }

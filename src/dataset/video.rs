@@ -53,7 +53,7 @@ impl DataRoot {
         &self.dir
     }
 
-    /// The scenarios that have a folder under this root, in table order.
+    /// The scenarios that have a folder under this root, in the paper's order.
     pub fn scenarios(&self) -> Vec<Scenario> {
         Scenario::ALL
             .into_iter()
@@ -118,7 +118,8 @@ impl DataRoot {
 
 impl VideoFolder {
     /// Opens a video folder given directly (as `exec --video DIR` does). The scenario comes from
-    /// the parent folder's name unless given.
+    /// the parent folder's name unless given; a folder outside every scenario folder needs it
+    /// given.
     pub fn open(dir: &Path, scenario: Option<Scenario>) -> Result<VideoFolder, DatasetError> {
         if !dir.is_dir() {
             return Err(DatasetError::Read {
@@ -142,7 +143,9 @@ impl VideoFolder {
             .map(|n| n.to_string_lossy().into_owned());
         let scenario = scenario
             .or_else(|| parent.as_deref().and_then(Scenario::from_folder_name))
-            .unwrap_or(Scenario::Rope);
+            .ok_or_else(|| DatasetError::UnknownVideoScenario {
+                path: dir.to_path_buf(),
+            })?;
         Ok(VideoFolder {
             scenario,
             id,

@@ -9,7 +9,7 @@
 //! Input: nothing (static data). Output: the words and the lookups `find` needs.
 
 /// The words of one scenario.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Vocabulary {
     /// Object kinds, singular, as questions name them and the prompt lists them, in the
     /// prompt's order (`cube`, `fixed point`). A kind may be two words.
@@ -49,7 +49,7 @@ pub struct Attribute {
 }
 
 /// An attribute written as `(…)` after the words of a name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Suffix {
     /// The attribute it sets (`grid`).
     pub attribute: &'static str,

@@ -10,7 +10,10 @@
 //! This module sits above every layer whose parts it lists and below the ones that use it
 //! (`sandbox`, `app`).
 
-use crate::dataset::Scenario;
+use std::sync::OnceLock;
+
+use crate::dataset::engine::{self, QuestionEngine};
+use crate::dataset::{self, FamilyIndex, Scenario, Vocabulary};
 use crate::program::builtin::{self, Writer};
 
 /// One scenario's parts.
@@ -18,6 +21,11 @@ use crate::program::builtin::{self, Writer};
 pub struct ScenarioParts {
     /// The scenario.
     pub scenario: Scenario,
+    /// The words of its scenes: what `find` understands, what objects carry, what the prompt
+    /// lists.
+    pub vocabulary: &'static Vocabulary,
+    /// Its question engine (`questions`, `generate`).
+    pub engine: Option<&'static QuestionEngine>,
     /// The builtin writer's programs for its questions.
     pub writer: Option<&'static Writer>,
 }
@@ -26,18 +34,26 @@ pub struct ScenarioParts {
 static TABLE: [ScenarioParts; 4] = [
     ScenarioParts {
         scenario: Scenario::Rope,
+        vocabulary: &dataset::rope::VOCABULARY,
+        engine: Some(&engine::rope::ENGINE),
         writer: Some(&builtin::rope::WRITER),
     },
     ScenarioParts {
         scenario: Scenario::Fluid,
+        vocabulary: &dataset::fluid::VOCABULARY,
+        engine: None,
         writer: None,
     },
     ScenarioParts {
         scenario: Scenario::Cloth,
+        vocabulary: &dataset::cloth::VOCABULARY,
+        engine: None,
         writer: None,
     },
     ScenarioParts {
         scenario: Scenario::Ball,
+        vocabulary: &dataset::ball::VOCABULARY,
+        engine: None,
         writer: None,
     },
 ];
@@ -53,6 +69,28 @@ pub fn parts(scenario: Scenario) -> &'static ScenarioParts {
         .iter()
         .find(|row| row.scenario == scenario)
         .expect("the table has a row for every scenario (a test checks it)")
+}
+
+/// Every scenario's question families, for telling a question file's scenario from its records.
+pub fn families() -> FamilyIndex<'static> {
+    static FAMILIES: OnceLock<Vec<(Scenario, &'static [&'static str])>> = OnceLock::new();
+    FAMILIES.get_or_init(|| {
+        TABLE
+            .iter()
+            .filter_map(|row| row.engine.map(|engine| (row.scenario, engine.families)))
+            .collect()
+    })
+}
+
+/// The scenarios that have `part`, by name, comma separated (`rope`): for messages about the
+/// others.
+pub fn names_with(part: impl Fn(&ScenarioParts) -> bool) -> String {
+    TABLE
+        .iter()
+        .filter(|row| part(row))
+        .map(|row| row.scenario.name())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]

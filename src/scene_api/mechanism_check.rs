@@ -16,7 +16,8 @@ use super::error::ApiError;
 use super::perceived::Perceiver;
 use super::rope_sim::{RopeLayoutPath, rope_paths};
 use super::scene::PerceptionModels;
-use crate::dataset::{FourDData, RopeAnnotation};
+use crate::dataset::FourDData;
+use crate::dataset::rope::RopeAnnotation;
 use crate::perception::assignment::assign;
 use crate::perception::detection::ObjectClass;
 

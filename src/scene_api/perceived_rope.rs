@@ -20,9 +20,8 @@
 use indexmap::IndexMap;
 
 use super::rope_topology::{Node, NodeKind, RopePath, distance, read_ropes};
-use crate::dataset::{
-    Camera, FourDData, RigidBodyTrack, RopeAnnotation, SoftBodyTrack, rope_world as world,
-};
+use crate::dataset::rope::{RopeAnnotation, world};
+use crate::dataset::{Camera, FourDData, RigidBodyTrack, SoftBodyTrack};
 use crate::perception::camera::CameraModel;
 use crate::perception::color::{srgb_to_linear, wall_color};
 use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
@@ -598,7 +597,7 @@ fn write_chain(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::engine::RopeScene;
+    use crate::dataset::engine::rope::RopeScene;
     use crate::perception::detection::InstanceMask;
     use crate::physics::rope::Turn;
     use crate::scene_api::rope_sim::tests::sample;

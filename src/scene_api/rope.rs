@@ -25,11 +25,11 @@ use super::scene::{
     DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
     VideoSpec,
 };
-use crate::dataset::engine::RopeScene;
-use crate::dataset::{
-    Camera, FourDData, RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind,
-    parse_rope_object_name, rope_world as world,
+use crate::dataset::engine::rope::RopeScene;
+use crate::dataset::rope::{
+    RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name, world,
 };
+use crate::dataset::{Camera, FourDData};
 use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
 
 /// The motion and rotation results of one dynamic scene (name → −1, 0, +1).

@@ -22,9 +22,8 @@
 
 use indexmap::IndexMap;
 
-use crate::dataset::{
-    FourDData, RopeAnnotation, RopeObjectKind, parse_rope_object_name, rope_world as world,
-};
+use crate::dataset::FourDData;
+use crate::dataset::rope::{RopeAnnotation, RopeObjectKind, parse_rope_object_name, world};
 use crate::physics::rope::identify::{
     BodyVerdict, Identification, IdentifyError, Observation, PairVerdict, Track, Unknown, identify,
 };
@@ -696,7 +695,7 @@ pub fn infer_rope_masses(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::dataset::RopeChange;
+    use crate::dataset::rope::RopeChange;
 
     /// The real video's annotations and 4-D record.
     pub(crate) fn sample() -> (RopeAnnotation, FourDData) {

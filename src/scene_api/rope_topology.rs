@@ -15,7 +15,7 @@
 //! the turn at each pulley it wraps) and how well the pixels support it, or nothing when no chain
 //! is supported.
 
-use crate::dataset::rope_world as world;
+use crate::dataset::rope::world;
 use crate::physics::rope::Turn;
 
 /// What a node of the mechanism is.

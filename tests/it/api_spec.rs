@@ -416,9 +416,13 @@ const ROPE_FAMILIES: [&str; 8] = [
 /// The demo video's questions by their text (`title` or `title | option`) with their gold
 /// answer: open answers, `yes`/`no` per option, and the letters for the whole question.
 fn demo_gold() -> BTreeMap<String, String> {
-    let questions: Vec<Question> = load_question_file(&demo().join("pulley_group/0.json"), None)
-        .unwrap()
-        .questions;
+    let questions: Vec<Question> = load_question_file(
+        &demo().join("pulley_group/0.json"),
+        None,
+        contphy_eval::scenarios::families(),
+    )
+    .unwrap()
+    .questions;
     let mut gold = BTreeMap::new();
     for question in questions {
         if question.options.is_empty() {

@@ -7,7 +7,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
-use contphy_eval::dataset::{DataRoot, FourDData, RopeAnnotation, Scenario};
+use contphy_eval::dataset::rope::RopeAnnotation;
+use contphy_eval::dataset::{DataRoot, FourDData, Scenario};
 use contphy_eval::perception::camera::CameraModel;
 use contphy_eval::perception::frames::FrameSource;
 use contphy_eval::synth::palette::instance_color;

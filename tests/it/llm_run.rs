@@ -49,9 +49,13 @@ impl Mock {
 }
 
 fn demo_questions() -> Vec<Question> {
-    load_question_file(&root().join(QUESTIONS), None)
-        .unwrap()
-        .questions
+    load_question_file(
+        &root().join(QUESTIONS),
+        None,
+        scenarios::families(),
+    )
+    .unwrap()
+    .questions
 }
 
 /// The first user message of every prompt the demo run sends, in both modes, mapped to a
@@ -863,9 +867,13 @@ fn runs_killed_at_random_points_and_resumed_end_equal_to_an_uninterrupted_run() 
 
 #[test]
 fn render_prints_exactly_the_messages_a_run_sends() {
-    let questions = load_question_file(&root().join("eval/demo/pulley_group_test.json"), None)
-        .unwrap()
-        .questions;
+    let questions = load_question_file(
+        &root().join("eval/demo/pulley_group_test.json"),
+        None,
+        scenarios::families(),
+    )
+    .unwrap()
+    .questions;
     let choice = questions
         .iter()
         .find(|q| q.answer_type.is_choice())

@@ -11,9 +11,13 @@ use crate::support::{demo, root};
 
 /// Every question of the demo video's engine file (ids `0/<family>/<index>`).
 fn demo_questions() -> Vec<Question> {
-    load_question_file(&demo().join("pulley_group/0.json"), None)
-        .unwrap()
-        .questions
+    load_question_file(
+        &demo().join("pulley_group/0.json"),
+        None,
+        contphy_eval::scenarios::families(),
+    )
+    .unwrap()
+    .questions
 }
 
 fn demo_question(id: &str) -> Question {

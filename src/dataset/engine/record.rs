@@ -8,22 +8,27 @@ use std::collections::BTreeSet;
 use indexmap::IndexMap;
 use serde_json::{Value, json};
 
-use super::vocabulary::{MULTIPLE_CHOICE, OPEN_ENDED};
 use crate::dataset::QuestionRecord;
+
+/// `answer_type` of open questions (the property families).
+const OPEN_ENDED: &str = "open_ended";
+/// `answer_type` of choice questions with any number of correct options (the dynamics
+/// families, even those whose questions have exactly one correct option).
+const MULTIPLE_CHOICE: &str = "multiple_choice";
 
 /// One option of a choice question before it gets its letter.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) struct DraftOption {
+pub(crate) struct DraftOption {
     /// The option text without the `"A. "` prefix.
-    pub(super) text: String,
+    pub(crate) text: String,
     /// The option's program triple (`["blue pulley", "rotation", "clockwise"]`).
-    pub(super) program: [String; 3],
+    pub(crate) program: [String; 3],
     /// Whether the option is true.
-    pub(super) correct: bool,
+    pub(crate) correct: bool,
 }
 
 /// An open-ended record: `positive` is `[answer]`, `negative` is empty.
-pub(super) fn open_ended_record(
+pub(crate) fn open_ended_record(
     family: &str,
     question: String,
     answer: &str,
@@ -52,7 +57,7 @@ pub(super) fn open_ended_record(
 /// `None` (the question is dropped) when two options share a text, when no option is true, or
 /// when there are more options than letters. The public engine stopped in `breakpoint()` on a
 /// repeated option text.
-pub(super) fn choice_record(
+pub(crate) fn choice_record(
     family: &str,
     title: &str,
     question_program: [&str; 3],

@@ -1,11 +1,11 @@
-//! Sampler v3 and the per-video split (`contphy/FORMAT.md` §6.2): from each video's engine output,
+//! Sampler v3 and the per-video split (the question-file format of `docs/data/questions.md`): from each video's engine output,
 //! a few property and dynamics questions; then the videos split 50/20/30 into train, val and test.
 //!
 //! Input: per-video engine outputs ([`PerVideoQuestions`]) and a seed. Output: [`SampledSplits`],
 //! one list of tagged records (`qtype`, `video_id`, `question_id`, `split`) per split, in
 //! question-id order. The result depends only on the inputs and the seed: each video draws from
-//! its own RNG stream (`sampler/rope/<video_id>`), so adding a video does not change the others'
-//! picks.
+//! its own RNG stream (`sampler/<scenario>/<video_id>`), so adding a video does not change the
+//! others' picks.
 //!
 //! Differences from the public `run_question_sampler_v3` + `split_dataset`, each deliberate:
 //!
@@ -20,7 +20,9 @@
 use rand::Rng;
 use rand::seq::index;
 
-use crate::dataset::{Category, Family, PerVideoQuestions, QuestionRecord, Split, VideoId};
+use crate::dataset::{
+    Category, Family, PerVideoQuestions, QuestionRecord, Scenario, Split, VideoId,
+};
 use crate::util::{derive_seed, seeded_rng};
 
 /// How many questions to draw per video.
@@ -81,6 +83,7 @@ pub fn split_boundaries(video_count: usize) -> (usize, usize) {
 /// Videos without any question are not counted in N, as in the public split, which only saw
 /// sampled records.
 pub fn sample_and_split(
+    scenario: Scenario,
     per_video: &[PerVideoQuestions],
     config: &SamplerConfig,
     seed: u64,
@@ -95,7 +98,7 @@ pub fn sample_and_split(
     });
     let sampled: Vec<Vec<QuestionRecord>> = videos
         .iter()
-        .map(|video| sample_video(video, config, seed))
+        .map(|video| sample_video(scenario, video, config, seed))
         .filter(|records| !records.is_empty())
         .collect();
     let (val_start, test_start) = split_boundaries(sampled.len());
@@ -129,13 +132,14 @@ pub fn sample_and_split(
 
 /// One video's picks: property questions first, then dynamics questions.
 fn sample_video(
+    scenario: Scenario,
     video: &PerVideoQuestions,
     config: &SamplerConfig,
     seed: u64,
 ) -> Vec<QuestionRecord> {
     let mut rng = seeded_rng(derive_seed(
         seed,
-        &format!("sampler/rope/{}", video.video_id),
+        &format!("sampler/{}/{}", scenario.name(), video.video_id),
     ));
     let mut fact = Pool::default();
     let mut dynamics = Pool::default();
@@ -276,7 +280,7 @@ mod tests {
         let ids = ["10", "2", "0", "7", "1", "3", "9", "4", "8", "5", "6"];
         let per_video: Vec<PerVideoQuestions> =
             ids.iter().map(|id| video(id, &ROPE_FAMILIES)).collect();
-        let splits = sample_and_split(&per_video, &SamplerConfig::default(), 3);
+        let splits = sample_and_split(Scenario::Rope, &per_video, &SamplerConfig::default(), 3);
         let video_order = |records: &[QuestionRecord]| -> Vec<String> {
             let mut order: Vec<String> = Vec::new();
             for record in records {
@@ -313,7 +317,8 @@ mod tests {
     fn each_video_gives_facts_then_dynamics_one_per_family() {
         let per_video = vec![video("0", &ROPE_FAMILIES)];
         for seed in 0..100 {
-            let splits = sample_and_split(&per_video, &SamplerConfig::default(), seed);
+            let splits =
+                sample_and_split(Scenario::Rope, &per_video, &SamplerConfig::default(), seed);
             assert!(
                 splits.train.is_empty() && splits.val.is_empty(),
                 "N = 1 puts the only video in test"
@@ -370,7 +375,8 @@ mod tests {
                 dynamics_per_video,
             };
             for seed in 0..30 {
-                let records = sample_and_split(&[video("0", families)], &config, seed).test;
+                let records =
+                    sample_and_split(Scenario::Rope, &[video("0", families)], &config, seed).test;
                 let fact_count = records
                     .iter()
                     .filter(|r| Family(r.question_family.clone()).category() == Category::Property)
@@ -400,12 +406,12 @@ mod tests {
             .collect();
         let config = SamplerConfig::default();
         assert_eq!(
-            sample_and_split(&per_video, &config, 11),
-            sample_and_split(&per_video, &config, 11)
+            sample_and_split(Scenario::Rope, &per_video, &config, 11),
+            sample_and_split(Scenario::Rope, &per_video, &config, 11)
         );
         assert_ne!(
-            sample_and_split(&per_video, &config, 11),
-            sample_and_split(&per_video, &config, 12)
+            sample_and_split(Scenario::Rope, &per_video, &config, 11),
+            sample_and_split(Scenario::Rope, &per_video, &config, 12)
         );
         // Dropping video 5 changes no other video's questions (only splits and ids move).
         let questions = |splits: &SampledSplits, video_id: &str| -> Vec<String> {
@@ -415,8 +421,8 @@ mod tests {
                 .map(|r| r.question.clone())
                 .collect()
         };
-        let full = sample_and_split(&per_video, &config, 11);
-        let fewer = sample_and_split(&per_video[..5], &config, 11);
+        let full = sample_and_split(Scenario::Rope, &per_video, &config, 11);
+        let fewer = sample_and_split(Scenario::Rope, &per_video[..5], &config, 11);
         for video_id in ["0", "1", "2", "3", "4"] {
             assert_eq!(questions(&full, video_id), questions(&fewer, video_id));
         }
@@ -428,7 +434,8 @@ mod tests {
         if let Some(records) = per_video.question_dict.get_mut("mass") {
             records[0].answer = "No answer.".into();
         }
-        let records = sample_and_split(&[per_video], &SamplerConfig::default(), 0).test;
+        let records =
+            sample_and_split(Scenario::Rope, &[per_video], &SamplerConfig::default(), 0).test;
         let mass = records
             .iter()
             .find(|r| r.question_family == "mass")

@@ -1,8 +1,8 @@
-//! The rope engine's fixed word lists and question templates (`contphy/FORMAT.md` §7.1), spelled
+//! The rope engine's fixed word lists and question templates (`docs/data/rope.md`), spelled
 //! exactly as the public engine writes them.
 //!
 //! The public engine iterates Python `set`s of colours and shapes, so its question order depended
-//! on `PYTHONHASHSEED` (FORMAT §10.8). Fix: fixed orders. Colours follow the set literal of the
+//! on `PYTHONHASHSEED` (`docs/data/rope.md`, "quirks of the public engine"). Fix: fixed orders. Colours follow the set literal of the
 //! public engine with its duplicate `black` dropped; shapes follow their set literal.
 
 /// The 12 colours asked about, in the order of the public engine's set literal.
@@ -33,7 +33,7 @@ pub(super) const EXACT_SHAPES: [&str; 6] = [
 ];
 
 /// The family keys in template order, which is also generation order.
-pub(super) const FAMILIES: [&str; 8] = [
+pub(crate) const FAMILIES: [&str; 8] = [
     MASS,
     TENSION,
     SHAPE,
@@ -60,12 +60,6 @@ pub(super) const COUNTERFACTUAL: &str = "rope_counterfactual";
 pub(super) const COUNTERFACTUAL_DIRECTION: &str = "rope_counterfactual2";
 /// Family key: which mass changes make an object move or turn a given way.
 pub(super) const GOAL_DRIVEN: &str = "rope_goaldriven";
-
-/// `answer_type` of the property families.
-pub(super) const OPEN_ENDED: &str = "open_ended";
-/// `answer_type` of the three dynamics families (even `rope_counterfactual2`, whose questions
-/// have exactly one correct option).
-pub(super) const MULTIPLE_CHOICE: &str = "multiple_choice";
 
 /// The open-ended answer for two loads in different related groups.
 pub(super) const CANNOT_ANSWER: &str = "can not answer";

@@ -12,15 +12,14 @@ use indexmap::IndexMap;
 use rand::Rng;
 use rand::seq::{IndexedRandom, SliceRandom};
 
-use super::record::{DraftOption, choice_record};
 use super::scene::RopeScene;
-use super::vocabulary::{
+use super::templates::{
     COUNTERFACTUAL, COUNTERFACTUAL_DIRECTION, COUNTERFACTUAL_TITLES, GOAL_DRIVEN, GOAL_TITLES,
     MOTION_DIRECTION_TITLES, ROTATION_DIRECTION_TITLES, fill,
 };
-use crate::dataset::{
-    QuestionRecord, RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind,
-};
+use crate::dataset::QuestionRecord;
+use crate::dataset::engine::record::{DraftOption, choice_record};
+use crate::dataset::rope::{RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind};
 
 /// Probability of adding "would not rotate/move" as an extra false option for a moving object.
 const EXTRA_STATIONARY_FALSE_PROBABILITY: f64 = 0.1;

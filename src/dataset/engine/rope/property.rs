@@ -10,12 +10,13 @@
 
 use rand::Rng;
 
-use super::record::open_ended_record;
 use super::scene::{MASS_EPSILON, RopeScene};
-use super::vocabulary::{
+use super::templates::{
     CANNOT_ANSWER, COLOR, COLORS, EXACT_SHAPES, EXISTENCE, MASS, SHAPE, SHAPES, TENSION,
 };
-use crate::dataset::{QuestionRecord, RopeObjectKind};
+use crate::dataset::QuestionRecord;
+use crate::dataset::engine::record::open_ended_record;
+use crate::dataset::rope::RopeObjectKind;
 
 /// Probability that a pair of unrelated loads yields a "can not answer" question (else skipped).
 const CANNOT_ANSWER_PROBABILITY: f64 = 0.3;

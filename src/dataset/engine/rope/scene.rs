@@ -27,8 +27,10 @@ use std::collections::BTreeSet;
 
 use indexmap::IndexMap;
 
-use super::EngineError;
-use crate::dataset::{RopeAnnotation, RopeObjectKind, RopeObjectName, parse_rope_object_name};
+use super::RopeEngineError as EngineError;
+use crate::dataset::rope::{
+    RopeAnnotation, RopeObjectKind, RopeObjectName, parse_rope_object_name,
+};
 
 /// Tolerance of every mass comparison, kg (the public engine's `EPS`).
 pub(super) const MASS_EPSILON: f64 = 1e-5;

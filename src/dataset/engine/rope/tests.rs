@@ -10,9 +10,8 @@ use std::path::Path;
 use serde_json::{Value, json};
 
 use super::*;
-use crate::dataset::{
-    AnswerType, Category, Family, Question, QuestionId, RopeChange, RopeObjectKind, Scenario, Split,
-};
+use crate::dataset::rope::{RopeChange, RopeObjectKind};
+use crate::dataset::{AnswerType, Category, Family, Question, QuestionId, Scenario, Split};
 
 const SEEDS: std::ops::Range<u64> = 0..300;
 
@@ -26,7 +25,7 @@ fn annotation(value: &Value) -> RopeAnnotation {
 }
 
 fn generate(annotation: &RopeAnnotation, seed: u64) -> PerVideoQuestions {
-    generate_rope_questions(&VideoId("0".into()), annotation, seed).unwrap()
+    generate_questions(&VideoId("0".into()), annotation, seed).unwrap()
 }
 
 /// Renames an object everywhere in the annotation (every key and string value).
@@ -722,7 +721,7 @@ fn real_video_family_counts_match_the_public_engine() {
     for seed in SEEDS {
         let questions = generate(&annotation, seed);
         for (family, family_records) in &questions.question_dict {
-            let family = vocabulary::FAMILIES
+            let family = templates::FAMILIES
                 .iter()
                 .find(|f| **f == family.as_str())
                 .unwrap();
@@ -826,7 +825,7 @@ fn same_seed_same_bytes_and_different_seeds_differ() {
     assert_eq!(bytes(7), bytes(7));
     assert_ne!(bytes(7), bytes(8));
     // The stream is per video: another video id draws differently from the same seed.
-    let other = generate_rope_questions(&VideoId("1".into()), &annotation, 7).unwrap();
+    let other = generate_questions(&VideoId("1".into()), &annotation, 7).unwrap();
     assert_eq!(other.video_id, "1");
     assert_ne!(
         serde_json::to_vec(&other.question_dict).unwrap(),
@@ -1164,10 +1163,10 @@ fn unreadable_annotations_are_errors_naming_the_object() {
     let video = VideoId("12".into());
     let mut value = real_json();
     value["outputMass"]["Green Cube"] = json!(0.213);
-    let error = generate_rope_questions(&video, &annotation(&value), 0).unwrap_err();
+    let error = generate_questions(&video, &annotation(&value), 0).unwrap_err();
     assert_eq!(
         error,
-        EngineError::UnexpectedMass {
+        RopeEngineError::UnexpectedMass {
             video_id: "12".into(),
             load: "Green Cube".into(),
             mass_kg: 0.213,
@@ -1183,19 +1182,19 @@ fn unreadable_annotations_are_errors_naming_the_object() {
 
     let mut value = real_json();
     value["outputMass"]["Brown Fixed Point"] = json!(0.2);
-    let error = generate_rope_questions(&video, &annotation(&value), 0).unwrap_err();
+    let error = generate_questions(&video, &annotation(&value), 0).unwrap_err();
     assert_eq!(
         error,
-        EngineError::NotALoad {
+        RopeEngineError::NotALoad {
             video_id: "12".into(),
             name: "Brown Fixed Point".into()
         }
     );
 
     let value = rename(&real_json(), "Green Rope", "Green Cable");
-    let error = generate_rope_questions(&video, &annotation(&value), 0).unwrap_err();
+    let error = generate_questions(&video, &annotation(&value), 0).unwrap_err();
     assert!(
-        matches!(&error, EngineError::UnparsableName { name, .. } if name == "Green Cable"),
+        matches!(&error, RopeEngineError::UnparsableName { name, .. } if name == "Green Cable"),
         "{error}"
     );
 }
@@ -1252,9 +1251,14 @@ fn sampler_splits_engine_output_by_video_with_valid_records() {
     let cases = [(1, 0, 0, 1), (2, 1, 0, 1), (10, 5, 2, 3), (90, 45, 18, 27)];
     for (video_count, train, val, test) in cases {
         let per_video: Vec<PerVideoQuestions> = (0..video_count)
-            .map(|id| generate_rope_questions(&VideoId(id.to_string()), &annotation, 42).unwrap())
+            .map(|id| generate_questions(&VideoId(id.to_string()), &annotation, 42).unwrap())
             .collect();
-        let splits = sample_and_split(&per_video, &SamplerConfig::default(), 42);
+        let splits = crate::dataset::engine::sample_and_split(
+            Scenario::Rope,
+            &per_video,
+            &crate::dataset::engine::SamplerConfig::default(),
+            42,
+        );
         let videos = |split: Split| -> BTreeSet<u32> {
             splits
                 .get(split)

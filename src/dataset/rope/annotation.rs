@@ -1,5 +1,5 @@
-//! Typed rope annotations (`pulley_group/<id>/outputs.json`, `contphy/FORMAT.md` §2) and the
-//! grammar of rope object names (`Blue Solid Static Pulley (0 1)`, `Light Blue Cube`, ...).
+//! Typed rope annotations (`pulley_group/<id>/outputs.json`, `docs/data/rope.md`): related
+//! groups, factual results, tensions, masses, counterfactual records, the camera and the layout.
 //!
 //! Maps keep file order (`IndexMap`), because the question engine, like the public Python one,
 //! iterates them in that order.
@@ -9,226 +9,10 @@ use std::path::Path;
 use indexmap::IndexMap;
 use serde::Serialize;
 
-use super::DatasetError;
-use super::fields::{Node, read_json};
-
-/// Facts of the release's rope world that answers and simulations depend on: the timeline and
-/// thresholds of `ResultMotion`/`ResultRotation` (FORMAT.md §2.3) and the prefabs' sizes and
-/// masses (read from the generator's prefabs; the pulley inertia is checked against the real
-/// video, whose loads move as 1 kg disc pulleys predict). Units: world units (nominally metres),
-/// kilograms, seconds.
-pub mod world {
-    /// One physics update of the generator, s (60 Hz); frames are taken every second update.
-    pub const UPDATE_SECONDS: f64 = 1.0 / 60.0;
-    /// Updates from one captured frame (video frame, 4-D record) to the next.
-    pub const UPDATES_PER_FRAME: u32 = 2;
-    /// The update at which the factual run applies its random masses and starts recording
-    /// (and counterfactual runs make their change).
-    pub const CHANGE_UPDATE: u32 = 100;
-    /// Updates a factual run simulates after the change (the video's 300 plus 200 unseen).
-    pub const FACTUAL_UPDATES_AFTER_CHANGE: u32 = 500;
-    /// Updates a counterfactual run simulates after its change.
-    pub const COUNTERFACTUAL_UPDATES_AFTER_CHANGE: u32 = 300;
-    /// Vertical travel from the change that counts as motion, units.
-    pub const MOTION_THRESHOLD: f64 = 1.2;
-    /// Turn from the change that counts as rotation, degrees.
-    pub const ROTATION_THRESHOLD_DEG: f64 = 35.0;
-    /// The masses a factual run draws each load's from, kg, in the generator's order (times
-    /// the load's multiplier).
-    pub const LOAD_MASSES_KG: [f64; 3] = [0.15, 0.25, 0.20];
-    /// Every load's mass in counterfactual runs (and before the change), kg, times its
-    /// multiplier.
-    pub const BASELINE_MASS_KG: f64 = 0.2;
-    /// A counterfactual run's mass change, kg, times the load's multiplier (lighter: −).
-    pub const COUNTERFACTUAL_MASS_STEP_KG: f64 = 0.1;
-    /// Mass multiplier of a load hanging under a movable pulley.
-    pub const MOVABLE_PULLEY_LOAD_MULTIPLIER: f64 = 1.975;
-    /// Speed of a pulled static pulley or fixed point, units/s.
-    pub const PULL_SPEED: f64 = 2.0;
-    /// How far a pulled static pulley moves, units.
-    pub const PULL_PULLEY_DISTANCE: f64 = 3.5;
-    /// How far a pulled fixed point moves, units.
-    pub const PULL_ANCHOR_DISTANCE: f64 = 7.0;
-    /// Mass of a static pulley's disc, kg (it turns about its axle).
-    pub const STATIC_PULLEY_KG: f64 = 1.0;
-    /// Mass of a movable pulley, kg.
-    pub const MOVABLE_PULLEY_KG: f64 = 0.005;
-    /// Disc radius of a solid ("little") pulley, units.
-    pub const SOLID_PULLEY_RADIUS: f64 = 1.74;
-    /// Disc radius of a hollow ("big") pulley, units.
-    pub const HOLLOW_PULLEY_RADIUS: f64 = 1.613;
-    /// Radius at which the rope wraps a solid pulley, units.
-    pub const SOLID_WRAP_RADIUS: f64 = 1.914;
-    /// Radius at which the rope wraps a hollow pulley, units.
-    pub const HOLLOW_WRAP_RADIUS: f64 = 1.61;
-    /// Horizontal offset of an end load or anchor from its pulley's centre in the layout
-    /// (`metaSamplingData.name2position`), units.
-    pub const LAYOUT_END_OFFSET: f64 = 1.48;
-    /// Half the height of a load (cube side 2, sphere diameter 2), units.
-    pub const LOAD_HALF_HEIGHT: f64 = 1.0;
-    /// Height of a load's rope attachment above its centre, units.
-    pub const LOAD_ATTACH_HEIGHT: f64 = 0.8;
-    /// Height of a fixed point's rope attachment above its centre, units.
-    pub const ANCHOR_ATTACH_HEIGHT: f64 = 0.28;
-    /// Rope radius, units.
-    pub const ROPE_RADIUS: f64 = 0.2;
-
-    /// Moment of inertia of a static pulley's disc about its axle, kg·m²: a uniform disc,
-    /// `½ m r²`.
-    pub fn static_pulley_inertia(solid: bool) -> f64 {
-        let radius = if solid {
-            SOLID_PULLEY_RADIUS
-        } else {
-            HOLLOW_PULLEY_RADIUS
-        };
-        0.5 * STATIC_PULLEY_KG * radius * radius
-    }
-
-    /// The rope's wrap radius round a pulley, units.
-    pub fn wrap_radius(solid: bool) -> f64 {
-        if solid {
-            SOLID_WRAP_RADIUS
-        } else {
-            HOLLOW_WRAP_RADIUS
-        }
-    }
-}
-
-/// The kind of a rope-scene object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RopeObjectKind {
-    /// A cube load.
-    Cube,
-    /// A sphere load.
-    Sphere,
-    /// A static or movable pulley.
-    Pulley,
-    /// A rope (main cable, load connection or pulley–pulley cable).
-    Rope,
-    /// A rope end anchored to the ceiling or floor.
-    FixedPoint,
-}
-
-impl RopeObjectKind {
-    /// The word used in questions (`fixed point`).
-    pub fn word(self) -> &'static str {
-        match self {
-            RopeObjectKind::Cube => "cube",
-            RopeObjectKind::Sphere => "sphere",
-            RopeObjectKind::Pulley => "pulley",
-            RopeObjectKind::Rope => "rope",
-            RopeObjectKind::FixedPoint => "fixed point",
-        }
-    }
-
-    /// Whether the object is a load (its mass can be queried and changed).
-    pub fn is_load(self) -> bool {
-        matches!(self, RopeObjectKind::Cube | RopeObjectKind::Sphere)
-    }
-}
-
-/// A rope object name split into its parts. All text fields are lower case.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-pub struct RopeObjectName {
-    /// The annotation name, as written (`Blue Solid Static Pulley (0 1)`).
-    pub full: String,
-    /// The colour words (`blue`, `light blue`).
-    pub color: String,
-    /// The object kind.
-    pub kind: RopeObjectKind,
-    /// `solid` (little) or `hollow` (big), for pulleys.
-    pub pulley_shape: Option<String>,
-    /// `static` or `dynamic` (movable). Loads and ropes are dynamic, fixed points static.
-    pub dynamics: String,
-    /// The grid id `(layer, column)` of pulleys (columns can be negative in the release).
-    pub grid: Option<(i32, i32)>,
-}
-
-impl RopeObjectName {
-    /// The name without the grid suffix, lower case (`blue solid static pulley`); the public
-    /// engine's object key.
-    pub fn base_name(&self) -> String {
-        self.full
-            .split('(')
-            .next()
-            .unwrap_or_default()
-            .trim()
-            .to_lowercase()
-    }
-}
-
-/// Parses a rope object name; `None` for names that are not question objects (`Solver`,
-/// `Shaft of …`) or that do not follow the generator's grammar.
-pub fn parse_rope_object_name(name: &str) -> Option<RopeObjectName> {
-    if name.starts_with("Shaft of") {
-        return None;
-    }
-    let (words_part, grid) = match name.split_once('(') {
-        Some((head, tail)) => {
-            let inner = tail.strip_suffix(')')?;
-            let mut numbers = inner.split_whitespace().map(str::parse::<i32>);
-            let layer = numbers.next()?.ok()?;
-            let column = numbers.next()?.ok()?;
-            if numbers.next().is_some() {
-                return None;
-            }
-            (head.trim(), Some((layer, column)))
-        }
-        None => (name.trim(), None),
-    };
-    let words: Vec<String> = words_part
-        .split_whitespace()
-        .map(str::to_lowercase)
-        .collect();
-    let joined = |slice: &[String]| slice.join(" ");
-    let (kind, color_words, pulley_shape, dynamics) = match words.as_slice() {
-        [color @ .., last] if last == "cube" => (RopeObjectKind::Cube, color, None, "dynamic"),
-        [color @ .., last] if last == "sphere" => (RopeObjectKind::Sphere, color, None, "dynamic"),
-        [color @ .., last] if last == "rope" => (RopeObjectKind::Rope, color, None, "dynamic"),
-        [color @ .., fixed, point] if fixed == "fixed" && point == "point" => {
-            (RopeObjectKind::FixedPoint, color, None, "static")
-        }
-        [color @ .., shape, dynamics, pulley]
-            if pulley == "pulley"
-                && (shape == "solid" || shape == "hollow")
-                && (dynamics == "static" || dynamics == "dynamic") =>
-        {
-            (
-                RopeObjectKind::Pulley,
-                color,
-                Some(shape.clone()),
-                dynamics.as_str(),
-            )
-        }
-        _ => return None,
-    };
-    if color_words.is_empty() {
-        return None;
-    }
-    Some(RopeObjectName {
-        full: name.to_string(),
-        color: joined(color_words),
-        kind,
-        pulley_shape,
-        dynamics: dynamics.to_string(),
-        grid,
-    })
-}
-
-/// The main camera (`outputCamera["Main Camera"]`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Camera {
-    /// World position (Unity units, nominally metres).
-    pub position: [f64; 3],
-    /// Unity Euler angles in degrees (applied Z, X, Y).
-    pub rotation_deg: [f64; 3],
-    /// Vertical field of view in degrees.
-    pub vertical_fov_deg: f64,
-    /// Rope only: the camera sits at −z looking towards +z. Rotation results are already
-    /// sign-corrected, so +1 means clockwise as seen in the video either way.
-    pub mirrored: bool,
-}
+use super::names::parse_rope_object_name;
+use crate::dataset::DatasetError;
+use crate::dataset::camera::{Camera, parse_camera};
+use crate::dataset::fields::{Node, read_json};
 
 /// What a counterfactual run changed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -500,24 +284,6 @@ impl RopeAnnotation {
     }
 }
 
-fn parse_camera(node: Node<'_>) -> Result<Option<Camera>, DatasetError> {
-    node.optional_field("Main Camera", |camera| {
-        let position = camera.field("position", |n| n.numbers(Some(3)))?;
-        let rotation = camera.field("rotation", |n| n.numbers(Some(3)))?;
-        let fov = camera.field("fov", |n| n.numbers(Some(1)))?;
-        let mirrored = camera
-            .optional_field("mirrored", |n| n.integer())?
-            .unwrap_or(0)
-            != 0;
-        Ok(Camera {
-            position: [position[0], position[1], position[2]],
-            rotation_deg: [rotation[0], rotation[1], rotation[2]],
-            vertical_fov_deg: fov[0],
-            mirrored,
-        })
-    })
-}
-
 fn parse_counterfactual_pair(
     key: &str,
     record: Node<'_>,
@@ -582,44 +348,6 @@ fn parse_counterfactual(node: Node<'_>) -> Result<RopeCounterfactual, DatasetErr
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn object_names_follow_the_generator_grammar() {
-        let pulley = parse_rope_object_name("Blue Solid Static Pulley (0 1)").unwrap();
-        assert_eq!(pulley.color, "blue");
-        assert_eq!(pulley.kind, RopeObjectKind::Pulley);
-        assert_eq!(pulley.pulley_shape.as_deref(), Some("solid"));
-        assert_eq!(pulley.dynamics, "static");
-        assert_eq!(pulley.grid, Some((0, 1)));
-        assert_eq!(pulley.base_name(), "blue solid static pulley");
-        let cube = parse_rope_object_name("Light Blue Cube").unwrap();
-        assert_eq!(
-            (cube.color.as_str(), cube.kind),
-            ("light blue", RopeObjectKind::Cube)
-        );
-        let fixed = parse_rope_object_name("Brown Fixed Point").unwrap();
-        assert_eq!(
-            (fixed.kind, fixed.dynamics.as_str()),
-            (RopeObjectKind::FixedPoint, "static")
-        );
-        let movable = parse_rope_object_name("Red Hollow Dynamic Pulley (1 2)").unwrap();
-        assert_eq!(movable.dynamics, "dynamic");
-        // The release's walk can step left of column 0 in its second layer.
-        let left = parse_rope_object_name("Gray Solid Static Pulley (1 -1)").unwrap();
-        assert_eq!(left.grid, Some((1, -1)));
-        for not_an_object in [
-            "Solver",
-            "Shaft of Blue Solid Static Pulley (0 1)",
-            "Cube",
-            "Pulley (0 1)",
-            "Red Pulley (x y)",
-        ] {
-            assert!(
-                parse_rope_object_name(not_an_object).is_none(),
-                "{not_an_object}"
-            );
-        }
-    }
 
     #[test]
     fn lighter_compares_rounded_masses() {
