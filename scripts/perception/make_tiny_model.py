@@ -1,4 +1,4 @@
-"""Writes tests/data/perception/tiny-maskrcnn.onnx: a few-hundred-byte stand-in for the Mask R-CNN
+"""Writes tests/data/perception/tiny-maskrcnn.onnx (and its class description, tiny-maskrcnn.json): a few-hundred-byte stand-in for the Mask R-CNN
 export with the same contract (input `images_tensors` f32 [3,H,W]; outputs `boxes` f32 [N,4],
 `labels` i64 [N], `scores` f32 [N], `masks` f32 [N,1,28,28]), so the Rust session code is tested
 without torch or the real model.
@@ -10,11 +10,15 @@ and score 0.3. Deterministic; needs only the `onnx` and `numpy` packages.
     python scripts/perception/make_tiny_model.py tests/data/perception/tiny-maskrcnn.onnx
 """
 
+import json
+import os
 import sys
 
 import numpy as np
 import onnx
 from onnx import TensorProto, helper, numpy_helper
+
+from common import CLASSES
 
 
 def main(path: str) -> None:
@@ -57,6 +61,11 @@ def main(path: str) -> None:
     model.ir_version = 8
     onnx.checker.check_model(model)
     onnx.save(model, path)
+    # The description beside the model names its classes (the Rust side reads labels from it).
+    description = os.path.splitext(path)[0] + ".json"
+    with open(description, "w") as out:
+        json.dump({"model": os.path.basename(path), "classes": {str(k): v for k, v in CLASSES.items()}}, out, indent=1)
+        out.write("\n")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
 use super::pipeline::{outcome_from, sandbox_budgets, start_pool};
+use super::prerequisites::{check_frames, resolve_models};
 use super::settings::ExecSettings;
 use crate::answer::{interpret, is_correct};
 use crate::dataset::{VideoFolder, load_question_file, read_validity};
@@ -58,8 +59,10 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
         _ => None,
     };
 
-    let models = super::perception::check_models(settings.perception, &settings.perception_models)?;
-    let spec = VideoSpec::new(&video, settings.perception, settings.dynamics).with_models(models);
+    let models = resolve_models(settings.perception, [video.scenario], &settings.models)?;
+    check_frames(settings.perception, [&video])?;
+    let spec = VideoSpec::new(&video, settings.perception, settings.dynamics)
+        .with_models(models.get(&video.scenario).cloned());
     let pool = start_pool(1, settings.budgets)?;
     pool.submit(Unit {
         id: 0,

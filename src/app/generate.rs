@@ -16,9 +16,9 @@ use super::questions::questions;
 use super::settings::{FramesSelection, GenerateSettings, QuestionsSettings};
 use crate::dataset::Scenario;
 use crate::perception::frames::ffmpeg_available;
-use crate::synth::rope::RopeSynth;
+use crate::scenarios;
 use crate::synth::video::FrameOutput;
-use crate::synth::{GenerateOptions, ScenarioSynth, SynthError, generate as generate_videos};
+use crate::synth::{GenerateOptions, SynthError, generate as generate_videos};
 use crate::util::write_atomic;
 
 pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError> {
@@ -31,11 +31,16 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
             "--resolution {width}x{height} is outside 16x16 to 7680x4320"
         )));
     }
-    let synth: &dyn ScenarioSynth = match settings.scenario {
-        Scenario::Rope => &RopeSynth,
-        other => {
-            return Err(SynthError::Unsupported(other.name().to_string())).user();
-        }
+    let scenario = match settings.scenario {
+        Some(scenario) => scenario,
+        None => only_generator()?,
+    };
+    let Some(synth) = scenarios::parts(scenario).synth else {
+        return Err(SynthError::Unsupported {
+            scenario: scenario.name().to_string(),
+            supported: scenarios::names_with(|row| row.synth.is_some()),
+        })
+        .user();
     };
     let frames = match settings.frames {
         FramesSelection::Exactly(output) => {
@@ -58,7 +63,7 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
         .max(1);
     let options = GenerateOptions {
-        scenario: settings.scenario,
+        scenario,
         videos: settings.videos,
         seed: settings.seed,
         out: settings.out.clone(),
@@ -70,7 +75,7 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
     // The settings that decide a video's content: a data root holds videos of one setting only,
     // so a resumed generation never mixes two.
     let identity = json!({
-        "scenario": settings.scenario.name(),
+        "scenario": scenario.name(),
         "seed": settings.seed,
         "frames": format!("{frames:?}").to_lowercase(),
         "resolution": [width, height],
@@ -130,10 +135,10 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         stdout,
         "generated {} {} videos ({} kept from an earlier run) in {:.1} s with {jobs} jobs: {megabytes:.1} MB, {rejected} trials rejected by the validity checks -> {}",
         settings.videos,
-        settings.scenario.name(),
+        scenario.name(),
         reused,
         report.wall_ms as f64 / 1000.0,
-        settings.out.join(settings.scenario.folder_name()).display(),
+        settings.out.join(scenario.folder_name()).display(),
     );
     drop(stdout);
     questions(&QuestionsSettings {
@@ -143,6 +148,22 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         fact_per_video: 2,
         dynamics_per_video: 2,
     })
+}
+
+/// The scenario `generate` makes without `--scenario`: the one that has a generator.
+fn only_generator() -> Result<Scenario, AppError> {
+    let with: Vec<Scenario> = scenarios::all()
+        .iter()
+        .filter(|row| row.synth.is_some())
+        .map(|row| row.scenario)
+        .collect();
+    match with.as_slice() {
+        [one] => Ok(*one),
+        _ => Err(user_error(format!(
+            "pass --scenario: generators exist for {}",
+            scenarios::names_with(|row| row.synth.is_some())
+        ))),
+    }
 }
 
 /// Generation errors are the environment's or the user's (paths, ffmpeg), except a scene that

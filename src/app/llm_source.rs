@@ -24,6 +24,7 @@ use crate::llm::{
 };
 use crate::program::{CacheEntry, Program, ProgramOrigin, cache_key, extract_program};
 use crate::prompt::{PromptMode, PromptSet};
+use crate::scenarios;
 use crate::score::{Stage, UnitError, Usage};
 
 /// The source name of LLM programs in cache keys and manifests.
@@ -99,7 +100,7 @@ impl LlmSource {
         }
         let endpoint_json = settings.client.manifest_json();
         let client = Client::new(settings.client).user()?;
-        let prompts = PromptSet::shared().internal()?;
+        let prompts = scenarios::prompts().internal()?;
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()

@@ -15,6 +15,7 @@ mod generate;
 mod llm_source;
 mod perception;
 mod pipeline;
+mod prerequisites;
 mod progress;
 mod questions;
 mod render;
@@ -29,8 +30,8 @@ pub use perception::{BenchPerceptionSettings, FitColorsSettings, FrameSelection}
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
     CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, FramesSelection,
-    GenerateSettings, LlmSettings, QuestionsSettings, RenderSettings, Request, RunSettings,
-    ScoreSettings, SplitSelection,
+    GenerateSettings, LlmSettings, ModelOverrides, QuestionsSettings, RenderSettings, Request,
+    RunSettings, ScoreSettings, SplitSelection,
 };
 
 use std::io::Write as _;

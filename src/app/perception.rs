@@ -3,9 +3,10 @@
 //! masks, colours, classes and tracks scored against the segmentation truth, with the time of
 //! each stage and frames per second), both printing JSON.
 //!
-//! Input: a data root with `pulley_group/<id>/` folders (mp4s or PNG frame folders, and
-//! `outputs.json` for the segmentation records), a frame selection, a model. Output: JSON on
-//! stdout (and a model file for `fit-colors`).
+//! Input: a data root with `<scenario folder>/<id>/` folders (mp4s or PNG frame folders, and
+//! `outputs.json` for the segmentation records) of a scenario with perception, a frame
+//! selection, a model (the scenario's by default). Output: JSON on stdout (and a model file for
+//! `fit-colors`).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -16,9 +17,12 @@ use serde_json::json;
 
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
+use super::prerequisites::{ModelOverrides, check_frames, resolve_models};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
+use crate::perception::ScenarioPerception;
+use crate::perception::classes::ClassTable;
 use crate::perception::color::{ColorModel, features, name_colors, palette_id_of_name, wall_color};
-use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::detection::{Detection, InstanceMask};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::evaluation::{
     MATCH_IOU, TruthInstance, attribute_accuracy, box_average_precision, id_switches,
@@ -27,8 +31,8 @@ use crate::perception::evaluation::{
 use crate::perception::frames::{FrameSource, RgbFrame, Stream};
 use crate::perception::tracking::{TrackerConfig, track};
 use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
-use crate::scene_api::{MATCH_RADIUS, MechanismCheck, check_rope_mechanism};
-use crate::scene_api::{PerceptionBackend, PerceptionModels};
+use crate::scenarios;
+use crate::scene_api::PerceptionBackend;
 
 /// Which frames of each video are used.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -46,6 +50,9 @@ pub struct FrameSelection {
 pub struct FitColorsSettings {
     /// Data roots to fit on.
     pub data: Vec<PathBuf>,
+    /// The scenario whose videos are used; `None`: the one scenario with perception the data
+    /// roots hold.
+    pub scenario: Option<Scenario>,
     /// Frames used.
     pub frames: FrameSelection,
     /// Where the model is written.
@@ -59,10 +66,11 @@ pub struct BenchPerceptionSettings {
     pub data: PathBuf,
     /// Frames used.
     pub frames: FrameSelection,
-    /// The ONNX model.
-    pub model: PathBuf,
-    /// The colour model.
-    pub colors: PathBuf,
+    /// The scenario whose videos are scored; `None`: the one scenario with perception the data
+    /// root holds.
+    pub scenario: Option<Scenario>,
+    /// The model files; by default the scenario's.
+    pub models: ModelOverrides,
     /// ONNX Runtime threads.
     pub threads: usize,
 }
@@ -103,7 +111,11 @@ fn selected_frames(records: &SegmentationRecords, selection: &FrameSelection) ->
         .collect()
 }
 
-fn truth_objects(video: &TruthVideo, segmentation: &RgbFrame) -> Vec<TruthInstance> {
+fn truth_objects(
+    video: &TruthVideo,
+    segmentation: &RgbFrame,
+    classes: &ClassTable,
+) -> Vec<TruthInstance> {
     let painted: Vec<(u32, [u8; 3])> = video
         .records
         .frames
@@ -115,7 +127,7 @@ fn truth_objects(video: &TruthVideo, segmentation: &RgbFrame) -> Vec<TruthInstan
                         .records
                         .names
                         .get(&p.instance_id)
-                        .is_some_and(|n| ObjectClass::from_object_name(n).is_some())
+                        .is_some_and(|n| classes.of_object(n).is_some())
                 })
                 .map(|p| (p.instance_id, p.color))
                 .collect()
@@ -127,7 +139,7 @@ fn truth_objects(video: &TruthVideo, segmentation: &RgbFrame) -> Vec<TruthInstan
             let name = video.records.names.get(&instance_id)?;
             Some(TruthInstance {
                 instance_id,
-                class: ObjectClass::from_object_name(name)?,
+                class: classes.of_object(name)?,
                 color: palette_id_of_name(name),
                 mask,
             })
@@ -135,17 +147,73 @@ fn truth_objects(video: &TruthVideo, segmentation: &RgbFrame) -> Vec<TruthInstan
         .collect()
 }
 
-fn videos(data: &Path, selection: &FrameSelection) -> Result<Vec<VideoFolder>, AppError> {
+/// The scenario whose videos are used: the one given, or the one scenario with perception whose
+/// folder the data roots hold; with its perception parts.
+fn perceived_scenario(
+    data: &[PathBuf],
+    given: Option<Scenario>,
+) -> Result<(Scenario, &'static ScenarioPerception), AppError> {
+    let with_perception = || scenarios::names_with(|row| row.perception.is_some());
+    let scenario = if let Some(scenario) = given {
+        scenario
+    } else {
+        let mut present: Vec<Scenario> = Vec::new();
+        for root in data {
+            for scenario in DataRoot::open(root).user()?.scenarios() {
+                if scenarios::parts(scenario).perception.is_some() && !present.contains(&scenario) {
+                    present.push(scenario);
+                }
+            }
+        }
+        match present.as_slice() {
+            [one] => *one,
+            [] => {
+                return Err(user_error(format!(
+                    "no folder of a scenario with perception ({}) in {}",
+                    with_perception(),
+                    data.iter()
+                        .map(|d| format!("`{}`", d.display()))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
+            }
+            several => {
+                return Err(user_error(format!(
+                    "the data holds videos of {}; pass --scenario",
+                    several
+                        .iter()
+                        .map(|s| s.name())
+                        .collect::<Vec<_>>()
+                        .join(" and ")
+                )));
+            }
+        }
+    };
+    let perception = scenarios::parts(scenario).perception.ok_or_else(|| {
+        user_error(format!(
+            "there is no perception for {scenario} scenes yet (scenarios with perception: {})",
+            with_perception()
+        ))
+    })?;
+    Ok((scenario, perception))
+}
+
+fn videos(
+    data: &Path,
+    scenario: Scenario,
+    selection: &FrameSelection,
+) -> Result<Vec<VideoFolder>, AppError> {
     let root = DataRoot::open(data).user()?;
-    let listing = root.list_videos(Scenario::Rope).user()?;
+    let listing = root.list_videos(scenario).user()?;
     let mut videos: Vec<VideoFolder> = listing.valid;
     if let Some(max) = selection.max_videos {
         videos.truncate(max);
     }
     if videos.is_empty() {
         return Err(user_error(format!(
-            "{}: no rope videos (pulley_group/<id>/) to use",
-            data.display()
+            "{}: no {scenario} videos ({}/<id>/) to use",
+            data.display(),
+            scenario.folder_name()
         )));
     }
     Ok(videos)
@@ -153,10 +221,12 @@ fn videos(data: &Path, selection: &FrameSelection) -> Result<Vec<VideoFolder>, A
 
 /// `perception fit-colors`.
 pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppError> {
+    let (scenario, perception) = perceived_scenario(&settings.data, settings.scenario)?;
+    let classes = ClassTable::of_scenario(perception.classes);
     let mut samples = Vec::new();
     let mut described = Vec::new();
     for data in &settings.data {
-        let videos = videos(data, &settings.frames)?;
+        let videos = videos(data, scenario, &settings.frames)?;
         let mut frames_used = 0usize;
         for video in &videos {
             let truth = open_truth_video(video)?;
@@ -164,7 +234,7 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
             let rgb_frames = truth.rgb.read(&frames).user()?;
             let seg_frames = truth.segmentation.read(&frames).user()?;
             for (rgb, segmentation) in rgb_frames.iter().zip(&seg_frames) {
-                let objects = truth_objects(&truth, segmentation);
+                let objects = truth_objects(&truth, segmentation, &classes);
                 let masks: Vec<&InstanceMask> = objects.iter().map(|o| &o.mask).collect();
                 let Some(wall) = wall_color(rgb, &masks) else {
                     continue;
@@ -230,13 +300,20 @@ struct ScoredVideo {
 
 /// `bench perception`.
 pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, AppError> {
-    let colors = ColorModel::read(&settings.colors).user()?;
-    let mut detector = Detector::load(DetectorConfig::new(
-        settings.model.clone(),
-        settings.threads,
-    ))
+    let (scenario, perception) =
+        perceived_scenario(std::slice::from_ref(&settings.data), settings.scenario)?;
+    let models = resolve_models(PerceptionBackend::MaskRcnn, [scenario], &settings.models)?;
+    let models = models
+        .get(&scenario)
+        .ok_or_else(|| user_error(format!("no perception models for {scenario} scenes")))?;
+    let colors = ColorModel::read(&models.colors).user()?;
+    let mut detector = Detector::load(
+        DetectorConfig::new(models.detector.clone(), settings.threads),
+        perception.classes,
+    )
     .user()?;
-    let videos = videos(&settings.data, &settings.frames)?;
+    let videos = videos(&settings.data, scenario, &settings.frames)?;
+    check_frames(PerceptionBackend::MaskRcnn, &videos)?;
     let mut timing = Timing::default();
     let mut run: Vec<ScoredVideo> = Vec::new();
     let started = Instant::now();
@@ -274,16 +351,20 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
             timing.inference_ms += times.inference_ms;
             timing.postprocess_ms += times.postprocess_ms;
             scored.detections.push((rgb.index, detections));
-            scored
-                .truth
-                .push((rgb.index, truth_objects(&truth, segmentation)));
+            scored.truth.push((
+                rgb.index,
+                truth_objects(&truth, segmentation, detector.classes()),
+            ));
         }
         run.push(scored);
     }
     let wall_s = started.elapsed().as_secs_f64();
     let video_count = run.len();
-    let metrics = score_run(run)?;
-    let mechanism = check_mechanisms(&videos, settings)?;
+    let metrics = score_run(run, detector.classes())?;
+    let reading = match scenarios::parts(scenario).reading_check {
+        Some(check) => check(&videos, models).user()?,
+        None => serde_json::Value::Null,
+    };
     let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;
     let report = json!({
         "data": settings.data.display().to_string(),
@@ -302,52 +383,14 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
         "frames_per_second": timing.frames as f64 / wall_s.max(1e-9),
         "peak_rss_mib": peak_rss_mib(),
         "metrics": metrics,
-        "mechanism": mechanism,
+        "mechanism": reading,
     });
     print_report(&report)
 }
 
-/// The rope mechanism read from pixels against the annotated one, per video and summed
-/// (`scene_api::check_rope_mechanism`); the first-pass frames are detected again for it.
-fn check_mechanisms(
-    videos: &[VideoFolder],
-    settings: &BenchPerceptionSettings,
-) -> Result<serde_json::Value, AppError> {
-    let models = PerceptionModels {
-        detector: settings.model.clone(),
-        colors: settings.colors.clone(),
-    };
-    let mut total = MechanismCheck::default();
-    let mut per_video = Vec::new();
-    let mut error_sum = 0.0;
-    let mut all_right = 0;
-    for video in videos {
-        let check = check_rope_mechanism(&video.dir, &models)
-            .map_err(|error| user_error(format!("video {}: {error}", video.dir.display())))?;
-        total.elements += check.elements;
-        total.elements_found += check.elements_found;
-        total.ropes += check.ropes;
-        total.ropes_read += check.ropes_read;
-        total.ropes_read_with_turns += check.ropes_read_with_turns;
-        total.extra_ropes += check.extra_ropes;
-        error_sum += check.mean_position_error * check.elements_found as f64;
-        if check.ropes_read_with_turns == check.ropes && check.extra_ropes == 0 {
-            all_right += 1;
-        }
-        per_video.push(json!({"video": video.id.0, "check": check}));
-    }
-    total.mean_position_error = error_sum / total.elements_found.max(1) as f64;
-    Ok(json!({
-        "match_radius_units": MATCH_RADIUS,
-        "total": total,
-        "videos_read_entirely": all_right,
-        "per_video": per_video,
-    }))
-}
-
 /// AP@0.5 (mask and box), attribute accuracy and tracking identity over a run, per video
 /// summed (tracks are per video).
-fn score_run(run: Vec<ScoredVideo>) -> Result<serde_json::Value, AppError> {
+fn score_run(run: Vec<ScoredVideo>, classes: &ClassTable) -> Result<serde_json::Value, AppError> {
     let mut all_detections = Vec::new();
     let mut all_truth = Vec::new();
     let mut identity = Vec::new();
@@ -378,9 +421,11 @@ fn score_run(run: Vec<ScoredVideo>) -> Result<serde_json::Value, AppError> {
         all_detections.extend(detections.into_iter().map(|(f, d)| (f + offset, d)));
         all_truth.extend(truth.into_iter().map(|(f, t)| (f + offset, t)));
     }
-    let mask_ap = mask_average_precision(&all_detections, &all_truth, MATCH_IOU).internal()?;
-    let box_ap = box_average_precision(&all_detections, &all_truth, MATCH_IOU).internal()?;
-    let attributes = attribute_accuracy(&all_detections, &all_truth, 0.0).internal()?;
+    let mask_ap =
+        mask_average_precision(classes, &all_detections, &all_truth, MATCH_IOU).internal()?;
+    let box_ap =
+        box_average_precision(classes, &all_detections, &all_truth, MATCH_IOU).internal()?;
+    let attributes = attribute_accuracy(classes, &all_detections, &all_truth, 0.0).internal()?;
     Ok(json!({
         "mask_ap50": mask_ap,
         "box_ap50": box_ap,
@@ -400,39 +445,4 @@ fn peak_rss_mib() -> Option<f64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
-}
-
-/// With `--perception maskrcnn`: the model files made absolute (sandbox workers open them), after
-/// loading both once so a missing runtime or a broken model stops the run before any question
-/// (exit 1). Other backends pass through.
-pub(super) fn check_models(
-    backend: PerceptionBackend,
-    models: &PerceptionModels,
-) -> Result<PerceptionModels, AppError> {
-    if backend != PerceptionBackend::MaskRcnn {
-        return Ok(models.clone());
-    }
-    let absolute = |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    let models = PerceptionModels {
-        detector: absolute(&models.detector),
-        colors: absolute(&models.colors),
-    };
-    ColorModel::read(&models.colors).user()?;
-    Detector::load(DetectorConfig::new(models.detector.clone(), 1)).user()?;
-    Ok(models)
-}
-
-/// The content hashes of the detector and colour models with `--perception maskrcnn` (part of a
-/// run's identity); `None` for other backends.
-pub(super) fn model_hashes(
-    backend: PerceptionBackend,
-    models: &PerceptionModels,
-) -> Result<Option<[String; 2]>, AppError> {
-    if backend != PerceptionBackend::MaskRcnn {
-        return Ok(None);
-    }
-    let hash = |path: &Path| -> Result<String, AppError> {
-        Ok(crate::util::content_hash(&fs_err::read(path).user()?))
-    };
-    Ok(Some([hash(&models.detector)?, hash(&models.colors)?]))
 }

@@ -14,7 +14,7 @@ use serde_json::json;
 use super::error::{AppError, Classify as _, user_error};
 use super::settings::RenderSettings;
 use crate::dataset::{DataRoot, Question, Split, load_question_file, sampled_file_path};
-use crate::prompt::{PromptMode, PromptSet};
+use crate::prompt::PromptMode;
 use crate::scenarios;
 
 pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
@@ -85,7 +85,7 @@ pub(crate) fn render(settings: &RenderSettings) -> Result<ExitCode, AppError> {
     } else {
         PromptMode::PerOption
     };
-    let prompts = PromptSet::shared().internal()?;
+    let prompts = scenarios::prompts().internal()?;
     let rendered = prompts.render(&question, option, mode).user()?;
     let mut stdout = std::io::stdout().lock();
     if settings.json {

@@ -10,6 +10,7 @@ use serde_json::json;
 use super::error::{AppError, Classify as _, user_error};
 use super::evaluate::{EvaluationSettings, Task, evaluate};
 use super::llm_source::{LlmSource, LlmSourceSettings};
+use super::prerequisites::{ScenarioModels, check_frames, model_hashes, resolve_models};
 use super::progress::Progress;
 use super::run_dir::{Manifest, RunDir, RunIdentity, unix_ms};
 use super::settings::DEFAULT_LLM_JOBS;
@@ -29,10 +30,6 @@ use crate::util::content_hash;
 
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let root = DataRoot::open(&settings.data).user()?;
-    let mut settings = settings.clone();
-    settings.perception_models =
-        super::perception::check_models(settings.perception, &settings.perception_models)?;
-    let settings = &settings;
     let (sources, question_files) = load_questions(&root, settings)?;
     let mut questions: Vec<Question> = Vec::new();
     // Every question must name a video folder; invalid trials are skipped with a count.
@@ -83,6 +80,14 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             "no questions to evaluate (check --questions, --split, --scenario, --shard and --limit)",
         ));
     }
+    // The backends' prerequisites, before the first unit: a missing one is one line, not a
+    // report of failed units.
+    let models = resolve_models(
+        settings.perception,
+        questions.iter().map(|q| q.scenario),
+        &settings.models,
+    )?;
+    check_frames(settings.perception, videos.values().flatten())?;
 
     let priors = load_priors(&root, &questions)?;
     let out = settings.out.clone().unwrap_or_else(default_run_dir);
@@ -92,10 +97,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         source_identity: source_identity(&source.describe()),
         offline: settings.offline,
         perception: settings.perception,
-        perception_models: super::perception::model_hashes(
-            settings.perception,
-            &settings.perception_models,
-        )?,
+        perception_models: model_hashes(&models)?,
         dynamics: settings.dynamics,
         budgets: settings.budgets,
         split: settings.split,
@@ -169,7 +171,7 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             unit_order.len()
         );
     }
-    let tasks = plan_tasks(&questions, &videos, &finished, settings);
+    let tasks = plan_tasks(&questions, &videos, &finished, &models, settings);
     let total_units: usize = tasks.iter().map(|t| t.units.len()).sum();
     let progress = Progress::new(total_units as u64, settings.quiet);
     let mut writer = run_dir.prediction_writer()?;
@@ -361,6 +363,7 @@ fn plan_tasks(
     questions: &[Question],
     videos: &BTreeMap<(Scenario, String), Option<VideoFolder>>,
     finished: &BTreeSet<&str>,
+    models: &ScenarioModels,
     settings: &RunSettings,
 ) -> Vec<Task> {
     let mut tasks = Vec::new();
@@ -370,7 +373,7 @@ fn plan_tasks(
             continue;
         };
         let spec = VideoSpec::new(video, settings.perception, settings.dynamics)
-            .with_models(settings.perception_models.clone());
+            .with_models(models.get(&question.scenario).cloned());
         if settings.per_question && question.answer_type.is_choice() {
             let units: Vec<(String, Option<ChoiceOption>)> = question
                 .units()

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{AppError, Classify as _, user_error};
 use super::settings::{Budgets, SplitSelection};
+use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 use crate::score::{Prediction, RunQuestions};
 use crate::util::{append_line_durable, write_atomic};
@@ -55,7 +56,7 @@ pub(crate) struct RunIdentity {
     /// With `--perception maskrcnn`: the content hashes of the detector and colour models, so a
     /// resume with other models is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(crate) perception_models: Option<[String; 2]>,
+    pub(crate) perception_models: Option<BTreeMap<Scenario, [String; 2]>>,
 }
 
 /// `manifest.json`.

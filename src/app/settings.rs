@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+pub use super::prerequisites::ModelOverrides;
 use crate::dataset::{Scenario, Split};
-use crate::scene_api::{DynamicsBackend, PerceptionBackend, PerceptionModels};
+use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 
 /// A command to run.
 #[derive(Debug)]
@@ -101,8 +102,8 @@ pub struct RunSettings {
     pub repair: u32,
     /// Perception backend.
     pub perception: PerceptionBackend,
-    /// The model files of `--perception maskrcnn`.
-    pub perception_models: PerceptionModels,
+    /// The model files of `--perception maskrcnn` named on the command line.
+    pub models: ModelOverrides,
     /// Dynamics backend.
     pub dynamics: DynamicsBackend,
     /// Sandbox budgets.
@@ -175,8 +176,8 @@ pub enum FramesSelection {
 /// `generate` settings.
 #[derive(Debug, Clone)]
 pub struct GenerateSettings {
-    /// The scenario.
-    pub scenario: Scenario,
+    /// The scenario; `None`: the one scenario with a generator.
+    pub scenario: Option<Scenario>,
     /// Number of videos.
     pub videos: usize,
     /// Base seed (videos, and the question engine and sampler).
@@ -234,8 +235,8 @@ pub struct ExecSettings {
     pub option: Option<char>,
     /// Perception backend.
     pub perception: PerceptionBackend,
-    /// The model files of `--perception maskrcnn`.
-    pub perception_models: PerceptionModels,
+    /// The model files of `--perception maskrcnn` named on the command line.
+    pub models: ModelOverrides,
     /// Dynamics backend.
     pub dynamics: DynamicsBackend,
     /// Sandbox budgets.

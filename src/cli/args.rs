@@ -7,11 +7,11 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::app::{
     BenchLlmSettings, BenchPerceptionSettings, BenchPhysicsSettings, BenchSettings, Budgets,
     CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings, FitColorsSettings,
-    FrameSelection, FramesSelection, GenerateSettings, LlmSettings, QuestionsSettings,
-    RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    FrameSelection, FramesSelection, GenerateSettings, LlmSettings, ModelOverrides,
+    QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
-use crate::scene_api::{DynamicsBackend, PerceptionBackend, PerceptionModels};
+use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 use crate::synth::video::FrameOutput;
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
@@ -107,9 +107,13 @@ pub enum PerceptionCommand {
     /// Fit the colour model (one Gaussian per palette colour over wall-relative features) on the
     /// segmentation truth of videos, and write it as JSON.
     FitColors {
-        /// Data roots holding `pulley_group/<video_id>/` (repeatable).
+        /// Data roots holding `<scenario folder>/<video_id>/` (repeatable).
         #[arg(long, value_name = "DIR", required = true)]
         data: Vec<PathBuf>,
+        /// The scenario whose videos are used (default: the one scenario with perception the
+        /// data roots hold).
+        #[arg(long, value_name = "SCENARIO")]
+        scenario: Option<Scenario>,
         #[command(flatten)]
         frames: FrameSelectionArgs,
         /// Where the model is written.
@@ -127,12 +131,14 @@ struct EngineArgs {
     /// Where dynamics answers come from.
     #[arg(long, value_enum, default_value_t = DynamicsArg::Annotation)]
     dynamics: DynamicsArg,
-    /// The Mask R-CNN ONNX model of `--perception maskrcnn`.
-    #[arg(long, value_name = "FILE", default_value = "models/maskrcnn-rope.onnx")]
-    detector_model: PathBuf,
-    /// The colour model of `--perception maskrcnn` (`perception fit-colors`).
-    #[arg(long, value_name = "FILE", default_value = "models/color-model.json")]
-    color_model: PathBuf,
+    /// The Mask R-CNN ONNX model of `--perception maskrcnn` (default: each scenario's committed
+    /// model under models/).
+    #[arg(long, value_name = "FILE")]
+    detector_model: Option<PathBuf>,
+    /// The colour model of `--perception maskrcnn`, from `perception fit-colors` (default: each
+    /// scenario's committed model under models/).
+    #[arg(long, value_name = "FILE")]
+    color_model: Option<PathBuf>,
     /// A program's own time budget, seconds (time inside scene-API calls is budgeted apart).
     #[arg(long, value_name = "SECONDS", default_value_t = 5.0)]
     program_timeout: f64,
@@ -377,7 +383,7 @@ pub struct ExecArgs {
 /// `questions` arguments.
 #[derive(Debug, Args)]
 pub struct QuestionsArgs {
-    /// Data root holding `pulley_group/<video_id>/`.
+    /// Data root holding `<scenario folder>/<video_id>/`.
     #[arg(long, value_name = "DIR")]
     data: PathBuf,
     /// Where to write `pulley_group/<video_id>.json` and `pulley_group_{train,val,test}.json`
@@ -398,9 +404,9 @@ pub struct QuestionsArgs {
 /// `generate` arguments.
 #[derive(Debug, Args)]
 pub struct GenerateArgs {
-    /// The scenario to generate.
-    #[arg(long, value_name = "SCENARIO", default_value = "rope")]
-    scenario: Scenario,
+    /// The scenario to generate (default: the one scenario with a generator).
+    #[arg(long, value_name = "SCENARIO")]
+    scenario: Option<Scenario>,
     /// Number of videos (folders 0 … N−1).
     #[arg(long, value_name = "N")]
     videos: usize,
@@ -524,7 +530,7 @@ pub enum BenchCommand {
     /// Mass relations inferred from tracked motion (what `--dynamics simulate` answers mass and
     /// tension questions with) against the videos' masses, pair by pair, as JSON.
     Inference {
-        /// Data root holding `pulley_group/<video_id>/`.
+        /// Data root holding `<scenario folder>/<video_id>/`.
         #[arg(long, value_name = "DIR")]
         data: PathBuf,
         /// Gaussian noise added to the tracked heights, standard deviations in units
@@ -536,17 +542,21 @@ pub enum BenchCommand {
     /// truth (AP@0.5, attribute accuracy, ID switches), and the time of decoding, inference and
     /// postprocessing per frame, as JSON.
     Perception {
-        /// Data root holding `pulley_group/<video_id>/`.
+        /// Data root holding `<scenario folder>/<video_id>/`.
         #[arg(long, value_name = "DIR")]
         data: PathBuf,
         #[command(flatten)]
         frames: FrameSelectionArgs,
-        /// The ONNX model.
-        #[arg(long, value_name = "FILE", default_value = "models/maskrcnn-rope.onnx")]
-        model: PathBuf,
-        /// The colour model.
-        #[arg(long, value_name = "FILE", default_value = "models/color-model.json")]
-        colors: PathBuf,
+        /// The scenario whose videos are scored (default: the one scenario with perception the
+        /// data root holds).
+        #[arg(long, value_name = "SCENARIO")]
+        scenario: Option<Scenario>,
+        /// The ONNX model (default: the scenario's committed model).
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+        /// The colour model (default: the scenario's committed model).
+        #[arg(long, value_name = "FILE")]
+        colors: Option<PathBuf>,
         /// ONNX Runtime threads.
         #[arg(long, value_name = "N", default_value_t = 1)]
         threads: usize,
@@ -585,8 +595,8 @@ impl EngineArgs {
         }
     }
 
-    fn models(&self) -> PerceptionModels {
-        PerceptionModels {
+    fn models(&self) -> ModelOverrides {
+        ModelOverrides {
             detector: self.detector_model.clone(),
             colors: self.color_model.clone(),
         }
@@ -625,7 +635,7 @@ impl RunArgs {
             samples: self.samples,
             repair: self.repair,
             perception: self.engine.perception(),
-            perception_models: self.engine.models(),
+            models: self.engine.models(),
             dynamics: self.engine.dynamics(),
             budgets: self.engine.budgets(),
         }
@@ -640,7 +650,7 @@ impl Cli {
             Some(Command::Run(args)) => Request::Run(Box::new(args.into_settings())),
             Some(Command::Exec(args)) => Request::Exec(ExecSettings {
                 perception: args.engine.perception(),
-                perception_models: args.engine.models(),
+                models: args.engine.models(),
                 dynamics: args.engine.dynamics(),
                 budgets: args.engine.budgets(),
                 video: args.video,
@@ -703,24 +713,32 @@ impl Cli {
                 svg,
                 steps,
             }),
-            Some(Command::Perception(PerceptionCommand::FitColors { data, frames, out })) => {
-                Request::FitColors(FitColorsSettings {
-                    data,
-                    frames: frames.selection(),
-                    out,
-                })
-            }
+            Some(Command::Perception(PerceptionCommand::FitColors {
+                data,
+                scenario,
+                frames,
+                out,
+            })) => Request::FitColors(FitColorsSettings {
+                data,
+                scenario,
+                frames: frames.selection(),
+                out,
+            }),
             Some(Command::Bench(BenchCommand::Perception {
                 data,
                 frames,
+                scenario,
                 model,
                 colors,
                 threads,
             })) => Request::BenchPerception(BenchPerceptionSettings {
                 data,
                 frames: frames.selection(),
-                model,
-                colors,
+                scenario,
+                models: ModelOverrides {
+                    detector: model,
+                    colors,
+                },
                 threads: threads.max(1),
             }),
             Some(Command::Bench(BenchCommand::Inference { data, noise })) => {

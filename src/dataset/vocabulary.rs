@@ -46,6 +46,9 @@ pub struct Attribute {
     pub words: &'static [(&'static str, &'static str)],
     /// The kind a name means when it gives this attribute but no kind (`hollow` → `pulley`).
     pub implies_kind: Option<&'static str>,
+    /// Whether the value is part of an object's short name, between colour and kind (`blue
+    /// solid pulley`).
+    pub in_name: bool,
 }
 
 /// An attribute written as `(…)` after the words of a name.

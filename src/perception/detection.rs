@@ -1,137 +1,12 @@
-//! What the detector says about one frame: object classes, instance masks and detections.
+//! What the detector says about one frame: instance masks and detections (their classes are
+//! `classes`).
 //!
 //! Input: the model's label ids, boxes and pasted masks (from [`super::detector`]), or the
 //! release's object names and segmentation frames (ground truth for evaluation). Output: plain
 //! values that tracking, evaluation and the scene API share. Pixel coordinates are those of the
 //! frame the mask was made for (x right, y down, origin at the top-left corner).
 
-use serde::Serialize;
-
-/// The detector's classes. The numbers are the model's label ids (0 is background); they are a
-/// contract with `scripts/perception` and `models/maskrcnn-rope.json`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ObjectClass {
-    /// A cube load.
-    Cube = 1,
-    /// A sphere load.
-    Sphere = 2,
-    /// A rope.
-    Rope = 3,
-    /// A fixed point (a rope's anchor).
-    FixedPoint = 4,
-    /// A solid pulley on a fixed axle.
-    SolidStaticPulley = 5,
-    /// A hollow (spoked) pulley on a fixed axle.
-    HollowStaticPulley = 6,
-    /// A solid pulley hanging in a rope.
-    SolidDynamicPulley = 7,
-    /// A hollow pulley hanging in a rope.
-    HollowDynamicPulley = 8,
-}
-
-impl ObjectClass {
-    /// Every class, in label order.
-    pub const ALL: [ObjectClass; 8] = [
-        ObjectClass::Cube,
-        ObjectClass::Sphere,
-        ObjectClass::Rope,
-        ObjectClass::FixedPoint,
-        ObjectClass::SolidStaticPulley,
-        ObjectClass::HollowStaticPulley,
-        ObjectClass::SolidDynamicPulley,
-        ObjectClass::HollowDynamicPulley,
-    ];
-
-    /// The class of a model label id; `None` for background or an unknown id.
-    pub fn from_label(label: i64) -> Option<ObjectClass> {
-        ObjectClass::ALL.into_iter().find(|c| c.label() == label)
-    }
-
-    /// The model's label id.
-    pub fn label(self) -> i64 {
-        self as i64
-    }
-
-    /// The scene API's kind word (`cube`, `sphere`, `rope`, `fixed point`, `pulley`).
-    pub fn kind(self) -> &'static str {
-        match self {
-            ObjectClass::Cube => "cube",
-            ObjectClass::Sphere => "sphere",
-            ObjectClass::Rope => "rope",
-            ObjectClass::FixedPoint => "fixed point",
-            _ => "pulley",
-        }
-    }
-
-    /// Pulley shape (`solid`, `hollow`); `None` for other classes.
-    pub fn shape(self) -> Option<&'static str> {
-        match self {
-            ObjectClass::SolidStaticPulley | ObjectClass::SolidDynamicPulley => Some("solid"),
-            ObjectClass::HollowStaticPulley | ObjectClass::HollowDynamicPulley => Some("hollow"),
-            _ => None,
-        }
-    }
-
-    /// `dynamic` for movable pulleys and loads, `static` for the rest (the annotation
-    /// backend's convention).
-    pub fn dynamics(self) -> &'static str {
-        match self {
-            ObjectClass::SolidDynamicPulley
-            | ObjectClass::HollowDynamicPulley
-            | ObjectClass::Cube
-            | ObjectClass::Sphere
-            | ObjectClass::Rope => "dynamic",
-            _ => "static",
-        }
-    }
-
-    /// A short name for reports (`hollow static pulley`).
-    pub fn name(self) -> &'static str {
-        match self {
-            ObjectClass::Cube => "cube",
-            ObjectClass::Sphere => "sphere",
-            ObjectClass::Rope => "rope",
-            ObjectClass::FixedPoint => "fixed point",
-            ObjectClass::SolidStaticPulley => "solid static pulley",
-            ObjectClass::HollowStaticPulley => "hollow static pulley",
-            ObjectClass::SolidDynamicPulley => "solid dynamic pulley",
-            ObjectClass::HollowDynamicPulley => "hollow dynamic pulley",
-        }
-    }
-
-    /// The class of a release object name (`Pink Hollow Static Pulley (0 5)`, `Gray Sphere`,
-    /// `Red Fixed Point`); `None` for names that are not detector classes (`Solver`).
-    pub fn from_object_name(name: &str) -> Option<ObjectClass> {
-        let lower = name.to_lowercase();
-        let words: Vec<&str> = lower
-            .split(|c: char| !c.is_ascii_alphabetic())
-            .filter(|w| !w.is_empty())
-            .collect();
-        let has = |word: &str| words.contains(&word);
-        if has("pulley") {
-            let hollow = has("hollow");
-            let dynamic = has("dynamic");
-            return Some(match (hollow, dynamic) {
-                (false, false) => ObjectClass::SolidStaticPulley,
-                (true, false) => ObjectClass::HollowStaticPulley,
-                (false, true) => ObjectClass::SolidDynamicPulley,
-                (true, true) => ObjectClass::HollowDynamicPulley,
-            });
-        }
-        if has("cube") {
-            Some(ObjectClass::Cube)
-        } else if has("sphere") {
-            Some(ObjectClass::Sphere)
-        } else if has("rope") {
-            Some(ObjectClass::Rope)
-        } else if has("fixed") && has("point") {
-            Some(ObjectClass::FixedPoint)
-        } else {
-            None
-        }
-    }
-}
+use super::classes::Class;
 
 /// A binary instance mask stored over its bounding rectangle in frame pixels.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -292,7 +167,7 @@ pub struct Detection {
     /// 0-based frame index in the video.
     pub frame: usize,
     /// The detector's class.
-    pub class: ObjectClass,
+    pub class: Class,
     /// The detector's confidence in `[0, 1]`.
     pub score: f32,
     /// The detector's box `[x0, y0, x1, y1]` in frame pixels.
@@ -307,37 +182,6 @@ pub struct Detection {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn object_names_of_the_release_map_to_classes() {
-        let cases = [
-            (
-                "Pink Hollow Static Pulley (0 5)",
-                Some(ObjectClass::HollowStaticPulley),
-            ),
-            (
-                "Cyan Hollow Dynamic Pulley (0 4)",
-                Some(ObjectClass::HollowDynamicPulley),
-            ),
-            (
-                "Blue Solid Static Pulley (0 1)",
-                Some(ObjectClass::SolidStaticPulley),
-            ),
-            ("Light Blue Rope", Some(ObjectClass::Rope)),
-            ("Red Fixed Point", Some(ObjectClass::FixedPoint)),
-            ("Gray Sphere", Some(ObjectClass::Sphere)),
-            ("Purple Cube", Some(ObjectClass::Cube)),
-            ("Solver", None),
-        ];
-        for (name, class) in cases {
-            assert_eq!(ObjectClass::from_object_name(name), class, "{name}");
-        }
-        for class in ObjectClass::ALL {
-            assert_eq!(ObjectClass::from_label(class.label()), Some(class));
-        }
-        assert_eq!(ObjectClass::from_label(0), None);
-        assert_eq!(ObjectClass::from_label(9), None);
-    }
 
     #[test]
     fn masks_measure_area_overlap_bounds_and_centroid() {

@@ -25,7 +25,8 @@ use ort::session::Session;
 use ort::session::builder::GraphOptimizationLevel;
 use ort::value::TensorRef;
 
-use super::detection::{Detection, InstanceMask, ObjectClass};
+use super::classes::{ClassError, ClassTable, ScenarioClasses};
+use super::detection::{Detection, InstanceMask};
 use super::frames::RgbFrame;
 use super::runtime::{RuntimeError, environment};
 
@@ -89,6 +90,9 @@ pub enum DetectorError {
         /// What ONNX Runtime said, first line only.
         message: String,
     },
+    /// The model's description file is missing, or names no class of the scenario.
+    #[error(transparent)]
+    Classes(#[from] ClassError),
     /// The model does not have the inputs and outputs this detector reads.
     #[error("model {path} is not a contphy Mask R-CNN export: {problem}")]
     Contract {
@@ -128,7 +132,7 @@ fn first_line(text: &str) -> String {
 pub struct RawDetections {
     /// `[x0, y0, x1, y1]` in input pixels.
     pub boxes: Vec<[f32; 4]>,
-    /// Label ids (1-based classes, see [`ObjectClass`]).
+    /// Label ids (1-based classes, named by the model's description file).
     pub labels: Vec<i64>,
     /// Scores in `[0, 1]`, descending.
     pub scores: Vec<f32>,
@@ -151,6 +155,7 @@ pub struct StageTimes {
 pub struct Detector {
     session: Session,
     config: DetectorConfig,
+    classes: ClassTable,
 }
 
 impl std::fmt::Debug for Detector {
@@ -162,8 +167,12 @@ impl std::fmt::Debug for Detector {
 }
 
 impl Detector {
-    /// Loads and checks the model.
-    pub fn load(config: DetectorConfig) -> Result<Detector, DetectorError> {
+    /// Loads and checks the model, and reads its classes (the description file beside it) as
+    /// `scenario` knows them.
+    pub fn load(
+        config: DetectorConfig,
+        scenario: ScenarioClasses,
+    ) -> Result<Detector, DetectorError> {
         let path = config.model.clone();
         if !path.is_file() {
             return Err(DetectorError::MissingModel { path });
@@ -185,12 +194,22 @@ impl Detector {
             .commit_from_file(&path)
             .map_err(|e| model_error(e.to_string()))?;
         check_contract(&session, &path)?;
-        Ok(Detector { session, config })
+        let classes = ClassTable::for_model(&path, scenario)?;
+        Ok(Detector {
+            session,
+            config,
+            classes,
+        })
     }
 
     /// The settings it runs with.
     pub fn config(&self) -> &DetectorConfig {
         &self.config
+    }
+
+    /// Its classes, as the scenario it was loaded for reads them.
+    pub fn classes(&self) -> &ClassTable {
+        &self.classes
     }
 
     /// Runs the model on a CHW `f32` image in `[0, 1]` and returns its raw outputs.
@@ -282,7 +301,7 @@ impl Detector {
             if score.is_nan() || score < self.config.score_threshold {
                 continue;
             }
-            let Some(class) = ObjectClass::from_label(raw.labels[i]) else {
+            let Some(class) = self.classes.class(raw.labels[i]) else {
                 continue;
             };
             let b = raw.boxes[i];

@@ -29,7 +29,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use serde::Serialize;
 
 use super::assignment::assign;
-use super::detection::{Detection, InstanceMask, ObjectClass};
+use super::classes::{Class, ClassTable};
+use super::detection::{Detection, InstanceMask};
 use super::tracking::Track;
 
 /// IoU at which a detection counts as the same object as a truth instance, for attribute and
@@ -49,7 +50,7 @@ pub struct TruthInstance {
     /// The release's instance id (stable across frames).
     pub instance_id: u32,
     /// Its class.
-    pub class: ObjectClass,
+    pub class: Class,
     /// Its palette colour id; `None` when the object has no palette colour.
     pub color: Option<u8>,
     /// Its pixels in the frame.
@@ -120,7 +121,7 @@ pub struct ApReport {
 
 impl ApReport {
     /// The row of `class`.
-    pub fn class(&self, class: ObjectClass) -> Option<&ClassAp> {
+    pub fn class(&self, class: Class) -> Option<&ClassAp> {
         self.classes.iter().find(|row| row.class == class)
     }
 }
@@ -128,8 +129,10 @@ impl ApReport {
 /// Average precision of one class.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ClassAp {
-    /// The class.
-    pub class: ObjectClass,
+    /// The class (its label).
+    pub class: Class,
+    /// The class name.
+    pub name: &'static str,
     /// AP in `[0, 1]`; `None` when the class has no truth.
     pub ap: Option<f64>,
     /// Truth instances of the class (summed over frames).
@@ -307,11 +310,13 @@ fn all_point_ap(hits: &[bool], truths: usize) -> Option<f64> {
 
 /// Mask AP per class at `iou_threshold` (COCO's AP50 at 0.5); see the module docs.
 pub fn mask_average_precision(
+    classes: &ClassTable,
     detections_per_frame: &[(usize, Vec<Detection>)],
     truth_per_frame: &[(usize, Vec<TruthInstance>)],
     iou_threshold: f64,
 ) -> Result<ApReport, EvaluationError> {
     average_precision(
+        classes,
         detections_per_frame,
         truth_per_frame,
         iou_threshold,
@@ -322,11 +327,13 @@ pub fn mask_average_precision(
 /// Box AP per class at `iou_threshold`: the detection's `bbox` against the tight box of the
 /// truth mask; otherwise as [`mask_average_precision`].
 pub fn box_average_precision(
+    classes: &ClassTable,
     detections_per_frame: &[(usize, Vec<Detection>)],
     truth_per_frame: &[(usize, Vec<TruthInstance>)],
     iou_threshold: f64,
 ) -> Result<ApReport, EvaluationError> {
     average_precision(
+        classes,
         detections_per_frame,
         truth_per_frame,
         iou_threshold,
@@ -335,6 +342,7 @@ pub fn box_average_precision(
 }
 
 fn average_precision(
+    table: &ClassTable,
     detections_per_frame: &[(usize, Vec<Detection>)],
     truth_per_frame: &[(usize, Vec<TruthInstance>)],
     iou_threshold: f64,
@@ -344,8 +352,8 @@ fn average_precision(
     let truth = truth_by_frame(truth_per_frame)?;
     let detections = by_frame(detections_per_frame, "detections")?;
 
-    let mut classes = Vec::with_capacity(ObjectClass::ALL.len());
-    for class in ObjectClass::ALL {
+    let mut classes = Vec::new();
+    for class in table.all() {
         // Truth of the class per scored frame, with a matched flag each.
         let mut truths: BTreeMap<usize, Vec<(PreparedTruth<'_>, bool)>> = BTreeMap::new();
         let mut truth_count = 0;
@@ -400,6 +408,7 @@ fn average_precision(
         }
         classes.push(ClassAp {
             class,
+            name: table.name(class),
             ap: all_point_ap(&hits, truth_count),
             truths: truth_count,
             detections: ranked.len(),
@@ -449,19 +458,21 @@ pub struct AttributeReport {
     pub unmatched_detections: usize,
     /// Same palette colour (both unknown counts as the same).
     pub color: Accuracy,
-    /// Same [`ObjectClass`].
+    /// Same class.
     pub class: Accuracy,
-    /// Same kind ([`ObjectClass::kind`]: cube, sphere, rope, fixed point, pulley).
+    /// Same kind (rope: cube, sphere, rope, fixed point, pulley).
     pub kind: Accuracy,
-    /// Same pulley shape, over pairs whose truth is a pulley.
-    pub shape: Accuracy,
+    /// Per attribute of the classes (rope: pulley `shape`, `dynamic`), the same value, over the
+    /// pairs whose truth has the attribute.
+    pub attributes: BTreeMap<&'static str, Accuracy>,
 }
 
 /// Match detections (score ≥ `min_score`) to truth in each scored frame, class-agnostically, by
 /// the assignment with the largest number of pairs at mask IoU ≥ [`MATCH_IOU`] and then the
 /// least summed `1 − IoU`; then count how often the matched detection's colour, class, kind
-/// and pulley shape are right.
+/// and attribute values are right.
 pub fn attribute_accuracy(
+    classes: &ClassTable,
     detections_per_frame: &[(usize, Vec<Detection>)],
     truth_per_frame: &[(usize, Vec<TruthInstance>)],
     min_score: f32,
@@ -470,7 +481,9 @@ pub fn attribute_accuracy(
     let detections = by_frame(detections_per_frame, "detections")?;
     let (mut matched, mut unmatched_truth, mut unmatched_detections) = (0, 0, 0);
     let (mut color, mut class, mut kind) = (0, 0, 0);
-    let (mut shape, mut pulleys) = (0, 0);
+    let attribute_names = classes.attribute_names();
+    // Per attribute: (right, judged).
+    let mut attributes: Vec<(usize, usize)> = vec![(0, 0); attribute_names.len()];
     for (frame, instances) in &truth {
         let truths: Vec<PreparedTruth<'_>> = instances.iter().map(PreparedTruth::new).collect();
         let found: Vec<PreparedDetection<'_>> = detections
@@ -493,10 +506,12 @@ pub fn attribute_accuracy(
             matched += 1;
             color += usize::from(detection.color == truth.color);
             class += usize::from(detection.class == truth.class);
-            kind += usize::from(detection.class.kind() == truth.class.kind());
-            if let Some(truth_shape) = truth.class.shape() {
-                pulleys += 1;
-                shape += usize::from(detection.class.shape() == Some(truth_shape));
+            kind += usize::from(detection.class.same_kind(truth.class));
+            for (name, (right, judged)) in attribute_names.iter().zip(&mut attributes) {
+                if let Some(value) = classes.attribute(truth.class, name) {
+                    *judged += 1;
+                    *right += usize::from(classes.attribute(detection.class, name) == Some(value));
+                }
             }
         }
         unmatched_detections += found.len() - pairs.iter().flatten().count();
@@ -508,7 +523,11 @@ pub fn attribute_accuracy(
         color: Accuracy::new(color, matched),
         class: Accuracy::new(class, matched),
         kind: Accuracy::new(kind, matched),
-        shape: Accuracy::new(shape, pulleys),
+        attributes: attribute_names
+            .into_iter()
+            .zip(attributes)
+            .map(|(name, (right, judged))| (name, Accuracy::new(right, judged)))
+            .collect(),
     })
 }
 
@@ -695,7 +714,12 @@ pub fn id_switches(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::perception::rope::{PERCEPTION, test_class as class};
     use crate::perception::tracking::TrackPoint;
+
+    fn table() -> ClassTable {
+        ClassTable::of_scenario(PERCEPTION.classes)
+    }
 
     const RED: Option<u8> = Some(0);
     const BLUE: Option<u8> = Some(5);
@@ -709,7 +733,7 @@ mod tests {
     }
 
     /// A detection whose box is its mask's tight box.
-    fn det(class: ObjectClass, color: Option<u8>, score: f32, mask: InstanceMask) -> Detection {
+    fn det(class: Class, color: Option<u8>, score: f32, mask: InstanceMask) -> Detection {
         let bbox = mask.bounds().unwrap().map(|v| v as f32);
         Detection {
             frame: 0,
@@ -723,7 +747,7 @@ mod tests {
 
     fn truth(
         instance_id: u32,
-        class: ObjectClass,
+        class: Class,
         color: Option<u8>,
         mask: InstanceMask,
     ) -> TruthInstance {
@@ -764,9 +788,9 @@ mod tests {
         let truth_frames = vec![(
             0,
             vec![
-                truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10)),
-                truth(2, ObjectClass::Cube, BLUE, rect(20, 0, 30, 10)),
-                truth(3, ObjectClass::Sphere, GREEN, rect(50, 50, 60, 60)),
+                truth(1, class("cube"), RED, rect(0, 0, 10, 10)),
+                truth(2, class("cube"), BLUE, rect(20, 0, 30, 10)),
+                truth(3, class("sphere"), GREEN, rect(50, 50, 60, 60)),
             ],
         )];
         let detection_frames = vec![
@@ -774,80 +798,73 @@ mod tests {
                 0,
                 vec![
                     // IoU 0.6 with truth 2: a true positive, ranked third.
-                    det(ObjectClass::Cube, BLUE, 0.7, rect(20, 0, 26, 10)),
+                    det(class("cube"), BLUE, 0.7, rect(20, 0, 26, 10)),
                     // Exactly truth 1: a true positive, ranked first.
-                    det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10)),
+                    det(class("cube"), RED, 0.9, rect(0, 0, 10, 10)),
                     // IoU 0.3 with truth 2: a false positive, ranked second.
-                    det(ObjectClass::Cube, BLUE, 0.8, rect(20, 0, 23, 10)),
+                    det(class("cube"), BLUE, 0.8, rect(20, 0, 23, 10)),
                     // A rope where there is no rope.
-                    det(ObjectClass::Rope, GREEN, 0.6, rect(0, 80, 90, 82)),
+                    det(class("rope"), GREEN, 0.6, rect(0, 80, 90, 82)),
                 ],
             ),
             // Frame 7 has no truth: not scored.
-            (
-                7,
-                vec![det(ObjectClass::Cube, RED, 0.95, rect(70, 70, 80, 80))],
-            ),
+            (7, vec![det(class("cube"), RED, 0.95, rect(70, 70, 80, 80))]),
         ];
         for report in [
-            mask_average_precision(&detection_frames, &truth_frames, 0.5).unwrap(),
-            box_average_precision(&detection_frames, &truth_frames, 0.5).unwrap(),
+            mask_average_precision(&table(), &detection_frames, &truth_frames, 0.5).unwrap(),
+            box_average_precision(&table(), &detection_frames, &truth_frames, 0.5).unwrap(),
         ] {
-            let cube = report.class(ObjectClass::Cube).unwrap();
+            let cube = report.class(class("cube")).unwrap();
             assert!(close(cube.ap, 5.0 / 6.0), "{cube:?}");
             assert_eq!(
                 (cube.truths, cube.detections, cube.true_positives),
                 (2, 3, 2)
             );
-            let sphere = report.class(ObjectClass::Sphere).unwrap();
+            let sphere = report.class(class("sphere")).unwrap();
             assert_eq!(
                 (sphere.ap, sphere.truths, sphere.detections),
                 (Some(0.0), 1, 0)
             );
-            let rope = report.class(ObjectClass::Rope).unwrap();
+            let rope = report.class(class("rope")).unwrap();
             assert_eq!((rope.ap, rope.truths, rope.detections), (None, 0, 1));
             assert!(close(report.mean_ap, 5.0 / 12.0));
             assert_eq!(report.classes.len(), 8);
-            assert_eq!(report.classes[0].class, ObjectClass::Cube);
+            assert_eq!(report.classes[0].class, class("cube"));
         }
     }
 
     #[test]
     fn duplicates_are_false_positives_and_the_threshold_matters() {
-        let truth_frames = vec![(
-            3,
-            vec![truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10))],
-        )];
+        let truth_frames = vec![(3, vec![truth(1, class("cube"), RED, rect(0, 0, 10, 10))])];
         let detection_frames = vec![(
             3,
             vec![
-                det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 6)), // IoU 0.6
-                det(ObjectClass::Cube, RED, 0.8, rect(0, 0, 10, 10)), // IoU 1
+                det(class("cube"), RED, 0.9, rect(0, 0, 10, 6)), // IoU 0.6
+                det(class("cube"), RED, 0.8, rect(0, 0, 10, 10)), // IoU 1
             ],
         )];
         // At 0.5 the first takes the truth and the second is a duplicate: precision 1 at
         // recall 1, AP 1.
-        let report = mask_average_precision(&detection_frames, &truth_frames, 0.5).unwrap();
-        let cube = report.class(ObjectClass::Cube).unwrap();
+        let report =
+            mask_average_precision(&table(), &detection_frames, &truth_frames, 0.5).unwrap();
+        let cube = report.class(class("cube")).unwrap();
         assert!(close(cube.ap, 1.0));
         assert_eq!(cube.true_positives, 1);
         // At 0.75 the first misses and the second hits: precision 1/2 at recall 1.
-        let report = mask_average_precision(&detection_frames, &truth_frames, 0.75).unwrap();
-        assert!(close(report.class(ObjectClass::Cube).unwrap().ap, 0.5));
+        let report =
+            mask_average_precision(&table(), &detection_frames, &truth_frames, 0.75).unwrap();
+        assert!(close(report.class(class("cube")).unwrap().ap, 0.5));
     }
 
     #[test]
     fn box_ap_uses_the_box_and_mask_ap_the_pixels() {
         // The box covers the truth exactly, the mask only 40% of it.
-        let truth_frames = vec![(
-            0,
-            vec![truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10))],
-        )];
-        let mut partial = det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 4));
+        let truth_frames = vec![(0, vec![truth(1, class("cube"), RED, rect(0, 0, 10, 10))])];
+        let mut partial = det(class("cube"), RED, 0.9, rect(0, 0, 10, 4));
         partial.bbox = [0.0, 0.0, 10.0, 10.0];
         let detection_frames = vec![(0, vec![partial])];
-        let mask = mask_average_precision(&detection_frames, &truth_frames, 0.5).unwrap();
-        let boxed = box_average_precision(&detection_frames, &truth_frames, 0.5).unwrap();
+        let mask = mask_average_precision(&table(), &detection_frames, &truth_frames, 0.5).unwrap();
+        let boxed = box_average_precision(&table(), &detection_frames, &truth_frames, 0.5).unwrap();
         assert_eq!(mask.overlap, Overlap::Mask);
         assert_eq!(boxed.overlap, Overlap::Box);
         assert!(close(mask.mean_ap, 0.0));
@@ -864,22 +881,22 @@ mod tests {
 
     #[test]
     fn bad_inputs_are_errors() {
-        let cube = || truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10));
+        let cube = || truth(1, class("cube"), RED, rect(0, 0, 10, 10));
         for threshold in [0.0, 1.5, f64::NAN] {
             assert!(matches!(
-                mask_average_precision(&[], &[], threshold),
+                mask_average_precision(&table(), &[], &[], threshold),
                 Err(EvaluationError::Threshold { .. })
             ));
         }
         assert_eq!(
-            mask_average_precision(&[], &[(2, vec![]), (2, vec![])], 0.5),
+            mask_average_precision(&table(), &[], &[(2, vec![]), (2, vec![])], 0.5),
             Err(EvaluationError::DuplicateFrame {
                 frame: 2,
                 list: "truth"
             })
         );
         assert_eq!(
-            attribute_accuracy(&[], &[(4, vec![cube(), cube()])], 0.0),
+            attribute_accuracy(&table(), &[], &[(4, vec![cube(), cube()])], 0.0),
             Err(EvaluationError::DuplicateInstance {
                 frame: 4,
                 instance_id: 1
@@ -887,7 +904,7 @@ mod tests {
         );
         let track = Track {
             id: 3,
-            class: ObjectClass::Cube,
+            class: class("cube"),
             color: RED,
             observations: vec![TrackPoint {
                 frame: 4,
@@ -896,10 +913,7 @@ mod tests {
                 bbox: [0.0, 0.0, 10.0, 10.0],
             }],
         };
-        let detection_frames = vec![(
-            4,
-            vec![det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10))],
-        )];
+        let detection_frames = vec![(4, vec![det(class("cube"), RED, 0.9, rect(0, 0, 10, 10))])];
         assert_eq!(
             id_switches(&[track], &detection_frames, &[(4, vec![cube()])]),
             Err(EvaluationError::MissingDetection {
@@ -916,60 +930,51 @@ mod tests {
             (
                 0,
                 vec![
-                    truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10)),
-                    truth(2, ObjectClass::SolidStaticPulley, BLUE, rect(20, 0, 30, 10)),
+                    truth(1, class("cube"), RED, rect(0, 0, 10, 10)),
+                    truth(2, class("solid static pulley"), BLUE, rect(20, 0, 30, 10)),
                     truth(
                         3,
-                        ObjectClass::HollowDynamicPulley,
+                        class("hollow dynamic pulley"),
                         GREEN,
                         rect(40, 0, 50, 10),
                     ),
-                    truth(4, ObjectClass::Rope, Some(2), rect(0, 50, 100, 52)),
+                    truth(4, class("rope"), Some(2), rect(0, 50, 100, 52)),
                 ],
             ),
-            (
-                2,
-                vec![truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10))],
-            ),
+            (2, vec![truth(1, class("cube"), RED, rect(0, 0, 10, 10))]),
         ];
         let detection_frames = vec![
             (
                 0,
                 vec![
                     // Everything right.
-                    det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10)),
+                    det(class("cube"), RED, 0.9, rect(0, 0, 10, 10)),
                     // Right kind and colour, wrong shape (so wrong class).
                     det(
-                        ObjectClass::HollowStaticPulley,
+                        class("hollow static pulley"),
                         BLUE,
                         0.9,
                         rect(20, 0, 30, 10),
                     ),
                     // Right class, colour not read.
                     det(
-                        ObjectClass::HollowDynamicPulley,
+                        class("hollow dynamic pulley"),
                         None,
                         0.9,
                         rect(40, 0, 50, 10),
                     ),
                     // Nothing there.
-                    det(ObjectClass::Sphere, RED, 0.9, rect(80, 80, 90, 90)),
+                    det(class("sphere"), RED, 0.9, rect(80, 80, 90, 90)),
                     // Under the score floor: the rope counts as missed.
-                    det(ObjectClass::Rope, Some(2), 0.05, rect(0, 50, 100, 52)),
+                    det(class("rope"), Some(2), 0.05, rect(0, 50, 100, 52)),
                 ],
             ),
             // Not scored: no truth for frame 1.
-            (
-                1,
-                vec![det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10))],
-            ),
+            (1, vec![det(class("cube"), RED, 0.9, rect(0, 0, 10, 10))]),
             // Class-agnostic matching: a sphere on the cube (IoU 0.6) is matched, wrong kind.
-            (
-                2,
-                vec![det(ObjectClass::Sphere, RED, 0.9, rect(0, 0, 10, 6))],
-            ),
+            (2, vec![det(class("sphere"), RED, 0.9, rect(0, 0, 10, 6))]),
         ];
-        let report = attribute_accuracy(&detection_frames, &truth_frames, 0.1).unwrap();
+        let report = attribute_accuracy(&table(), &detection_frames, &truth_frames, 0.1).unwrap();
         assert_eq!(
             (
                 report.matched,
@@ -982,10 +987,10 @@ mod tests {
         assert_eq!(counts(report.color), (3, 4));
         assert_eq!(counts(report.class), (2, 4));
         assert_eq!(counts(report.kind), (3, 4));
-        assert_eq!(counts(report.shape), (1, 2));
-        assert!(close(report.shape.accuracy, 0.5));
+        assert_eq!(counts(report.attributes["shape"]), (1, 2));
+        assert!(close(report.attributes["shape"].accuracy, 0.5));
         assert!(close(report.color.accuracy, 0.75));
-        let empty = attribute_accuracy(&[], &[], 0.0).unwrap();
+        let empty = attribute_accuracy(&table(), &[], &[], 0.0).unwrap();
         assert_eq!(empty.color.accuracy, None);
     }
 
@@ -1001,7 +1006,7 @@ mod tests {
     fn track_of(id: u32, points: Vec<TrackPoint>) -> Track {
         Track {
             id,
-            class: ObjectClass::Cube,
+            class: class("cube"),
             color: RED,
             observations: points,
         }
@@ -1015,8 +1020,8 @@ mod tests {
                 (
                     f,
                     vec![
-                        truth(10, ObjectClass::Cube, RED, rect(0, 0, 10, 10)),
-                        truth(20, ObjectClass::Cube, BLUE, rect(30, 0, 40, 10)),
+                        truth(10, class("cube"), RED, rect(0, 0, 10, 10)),
+                        truth(20, class("cube"), BLUE, rect(30, 0, 40, 10)),
                     ],
                 )
             })
@@ -1026,8 +1031,8 @@ mod tests {
                 (
                     f,
                     vec![
-                        det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10)),
-                        det(ObjectClass::Cube, BLUE, 0.9, rect(30, 0, 40, 10)),
+                        det(class("cube"), RED, 0.9, rect(0, 0, 10, 10)),
+                        det(class("cube"), BLUE, 0.9, rect(30, 0, 40, 10)),
                     ],
                 )
             })
@@ -1078,29 +1083,21 @@ mod tests {
                 (
                     f,
                     vec![
-                        truth(1, ObjectClass::Cube, RED, rect(0, 0, 10, 10)),
-                        truth(2, ObjectClass::Sphere, BLUE, rect(50, 50, 60, 60)),
+                        truth(1, class("cube"), RED, rect(0, 0, 10, 10)),
+                        truth(2, class("sphere"), BLUE, rect(50, 50, 60, 60)),
                     ],
                 )
             })
             .collect();
         let mut detection_frames: Vec<_> = (0..5)
-            .map(|f| {
-                (
-                    f,
-                    vec![det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10))],
-                )
-            })
+            .map(|f| (f, vec![det(class("cube"), RED, 0.9, rect(0, 0, 10, 10))]))
             .collect();
         // Frame 4: detection 0 overlaps truth 1 at IoU 0.6, detection 1 exactly.
         detection_frames[4].1 = vec![
-            det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 6)),
-            det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10)),
+            det(class("cube"), RED, 0.9, rect(0, 0, 10, 6)),
+            det(class("cube"), RED, 0.9, rect(0, 0, 10, 10)),
         ];
-        detection_frames.push((
-            5,
-            vec![det(ObjectClass::Cube, RED, 0.9, rect(0, 0, 10, 10))],
-        ));
+        detection_frames.push((5, vec![det(class("cube"), RED, 0.9, rect(0, 0, 10, 10))]));
         let tracks = vec![
             // Unseen in frame 3 (a miss); frame 4 keeps the 0.6 overlap, as CLEAR-MOT keeps a
             // correspondence that still holds (the optimum alone would take track 1's 1.0).

@@ -1,13 +1,17 @@
 //! Perception: what the pixels of a video say, independent of questions, Python or LLMs.
 //!
 //! Input: video files (mp4 through `ffmpeg`, or PNG folders) and camera records. Output: frames
-//! as RGB pixel buffers, and the geometry that ties world points to pixels. Layer 1 (DESIGN.md
-//! §9): uses only `util`.
+//! as RGB pixel buffers, detections and tracks, and the geometry that ties world points to
+//! pixels. Layer 1 (`docs/architecture.md`): uses only `util`.
+//!
+//! Each scenario brings its detector classes and default model files
+//! ([`ScenarioPerception`], `perception/<scenario>/`); the rest is shared.
 //!
 //! * [`camera`]: the release's Unity camera (projection, capture records).
 //! * [`frames`]: decoding only the frames asked for, from an mp4 or a PNG folder.
 //! * [`palette`]: the release's object colours and Unity's instance-segmentation colours.
-//! * [`detection`]: detector classes, instance masks and detections.
+//! * [`classes`]: a model's classes (from its description file) as a scenario reads them.
+//! * [`detection`]: instance masks and detections.
 //! * [`color`]: palette colour words from masked pixels, relative to the wall.
 //! * [`truth`]: ground-truth instance masks from segmentation frames.
 //! * [`runtime`]: finding and loading the ONNX Runtime library (`ort`, `load-dynamic`).
@@ -19,12 +23,26 @@
 
 pub mod assignment;
 pub mod camera;
+pub mod classes;
 pub mod color;
 pub mod detection;
 pub mod detector;
 pub mod evaluation;
 pub mod frames;
 pub mod palette;
+pub mod rope;
 pub mod runtime;
 pub mod tracking;
 pub mod truth;
+
+/// What a scenario's perception brings: its detector classes and its default model files
+/// (relative to the repository root).
+#[derive(Debug, Clone, Copy)]
+pub struct ScenarioPerception {
+    /// The classes its objects fall into.
+    pub classes: classes::ScenarioClasses,
+    /// The default Mask R-CNN model (its description is the `.json` beside it).
+    pub detector: &'static str,
+    /// The default colour model.
+    pub colors: &'static str,
+}

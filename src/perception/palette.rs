@@ -1,5 +1,5 @@
 //! Colours of the release: the generator's object palette (`PlacementConfig.SoftColor`,
-//! FORMAT.md §1.8) and Unity Perception's instance-segmentation colours.
+//! shared by every scenario) and Unity Perception's instance-segmentation colours.
 
 /// One palette entry: its id (the `color` fields of `metaSampling`), name and sRGB bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -8,6 +8,8 @@ pub struct PaletteColor {
     pub id: u8,
     /// Name as written in object names (`Light Blue`).
     pub name: &'static str,
+    /// The colour word questions and `find` use (`light blue`).
+    pub word: &'static str,
     /// sRGB, 0–255.
     pub rgb: [u8; 3],
 }
@@ -24,89 +26,113 @@ pub const PALETTE: [PaletteColor; 17] = [
     PaletteColor {
         id: 0,
         name: "Red",
+        word: "red",
         rgb: [201, 0, 22],
     },
     PaletteColor {
         id: 1,
         name: "Orange",
+        word: "orange",
         rgb: [229, 131, 8],
     },
     PaletteColor {
         id: 2,
         name: "Yellow",
+        word: "yellow",
         rgb: [244, 208, 0],
     },
     PaletteColor {
         id: 3,
         name: "Green",
+        word: "green",
         rgb: [101, 147, 74],
     },
     PaletteColor {
         id: 4,
         name: "Cyan",
+        word: "cyan",
         rgb: [35, 235, 185],
     },
     PaletteColor {
         id: 5,
         name: "Blue",
+        word: "blue",
         rgb: [56, 118, 248],
     },
     PaletteColor {
         id: 6,
         name: "Purple",
+        word: "purple",
         rgb: [154, 78, 174],
     },
     PaletteColor {
         id: 7,
         name: "Pink",
+        word: "pink",
         rgb: [255, 137, 153],
     },
     PaletteColor {
         id: 8,
         name: "Brown",
+        word: "brown",
         rgb: [118, 77, 57],
     },
     PaletteColor {
         id: 9,
         name: "Gray",
+        word: "gray",
         rgb: [128, 128, 128],
     },
     PaletteColor {
         id: 10,
         name: "Black",
+        word: "black",
         rgb: [0, 0, 0],
     },
     PaletteColor {
         id: 11,
         name: "White",
+        word: "white",
         rgb: [245, 245, 245],
     },
     PaletteColor {
         id: 12,
         name: "Light Blue",
+        word: "light blue",
         rgb: [202, 235, 216],
     },
     PaletteColor {
         id: 13,
         name: "Light Green",
+        word: "light green",
         rgb: [240, 255, 240],
     },
     PaletteColor {
         id: 14,
         name: "Light Yellow",
+        word: "light yellow",
         rgb: [255, 255, 224],
     },
     PaletteColor {
         id: 15,
         name: "Light Coral",
+        word: "light coral",
         rgb: [240, 128, 128],
     },
     PaletteColor {
         id: 16,
         name: "Light Purple",
+        word: "light purple",
         rgb: [221, 160, 221],
     },
 ];
+
+/// The colour words of the palette, in id order (`red`, …, `light purple`): the colours `find`
+/// understands and the prompt lists, in every scenario.
+pub fn color_words() -> &'static [&'static str] {
+    static WORDS: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+    WORDS.get_or_init(|| PALETTE.iter().map(|color| color.word).collect())
+}
 
 /// The palette entry of `id`.
 pub fn palette_color(id: u8) -> Option<PaletteColor> {

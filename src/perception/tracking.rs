@@ -14,7 +14,7 @@
 //! the detector listed them in. Then two optimal assignments ([`super::assignment::assign`]) run:
 //!
 //! 1. **Compatible pairs.** A live track and a detection are *compatible* when their kinds
-//!    ([`ObjectClass::kind`]) are equal and their colours do not contradict (equal, or one of
+//!    ([`Class::same_kind`]) are equal and their colours do not contradict (equal, or one of
 //!    them unknown). A compatible pair is *in the gate* when the detection's mask overlaps the
 //!    track's last mask with IoU ≥ [`TrackerConfig::min_iou`], or when its centroid lies within
 //!    the distance gate of the track's position: the smaller distance to the constant-velocity
@@ -44,7 +44,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::assignment::assign;
-use super::detection::{Detection, InstanceMask, ObjectClass};
+use super::classes::Class;
+use super::detection::{Detection, InstanceMask};
 
 /// Tuning of the tracker. Distances are in frame pixels, times in video frames.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -127,7 +128,7 @@ pub struct Track {
     /// `0..` in order of first appearance (ties by x, then y, of the first centroid).
     pub id: u32,
     /// Class by vote over the observations, each weighted by its detection score.
-    pub class: ObjectClass,
+    pub class: Class,
     /// Colour by majority over the observations with a known colour; `None` if none had one.
     pub color: Option<u8>,
     /// The detections it was built from, in frame order.
@@ -225,7 +226,7 @@ struct LiveTrack<'a> {
     last_area: u64,
     last_radius: f64,
     /// Summed score weight and count per class.
-    class_votes: BTreeMap<ObjectClass, (f64, usize)>,
+    class_votes: BTreeMap<Class, (f64, usize)>,
     /// Count per known colour.
     color_votes: BTreeMap<u8, usize>,
 }
@@ -276,8 +277,8 @@ impl<'a> LiveTrack<'a> {
     }
 
     /// The class with the largest summed score, ties by more observations, then label order.
-    fn class(&self) -> ObjectClass {
-        let mut best: Option<(ObjectClass, f64, usize)> = None;
+    fn class(&self) -> Class {
+        let mut best: Option<(Class, f64, usize)> = None;
         for (&class, &(weight, count)) in &self.class_votes {
             let better = best.is_none_or(|(_, w, c)| {
                 weight.total_cmp(&w).then(count.cmp(&c)) == std::cmp::Ordering::Greater
@@ -479,7 +480,7 @@ fn compatible_cost(
     config: &TrackerConfig,
 ) -> Option<f64> {
     let class = track.class();
-    if class.kind() != detection.detection.class.kind() {
+    if !class.same_kind(detection.detection.class) {
         return None;
     }
     let track_color = track.color();
@@ -519,6 +520,7 @@ fn compatible_cost(
 )]
 mod tests {
     use super::*;
+    use crate::perception::rope::test_class as class;
 
     const RED: u8 = 0;
     const BLUE: u8 = 5;
@@ -526,7 +528,7 @@ mod tests {
 
     /// A `2·half × 2·half` square detection centred on `(cx, cy)` (whole pixels) in a 200×200
     /// frame.
-    fn square(class: ObjectClass, color: Option<u8>, cx: i64, cy: i64, half: i64) -> Detection {
+    fn square(class: Class, color: Option<u8>, cx: i64, cy: i64, half: i64) -> Detection {
         let mask = InstanceMask::from_predicate(200, 200, |x, y| {
             let (x, y) = (i64::from(x), i64::from(y));
             (cx - half..cx + half).contains(&x) && (cy - half..cy + half).contains(&y)
@@ -547,7 +549,7 @@ mod tests {
     }
 
     fn cube(color: u8, cx: i64, cy: i64) -> Detection {
-        square(ObjectClass::Cube, Some(color), cx, cy, 6)
+        square(class("cube"), Some(color), cx, cy, 6)
     }
 
     fn run(frames: &[(usize, Vec<Detection>)]) -> Vec<Track> {
@@ -581,7 +583,7 @@ mod tests {
         let tracks = run(&dense);
         assert_eq!(tracks.len(), 1);
         assert_eq!(tracks[0].id, 0);
-        assert_eq!(tracks[0].class, ObjectClass::Cube);
+        assert_eq!(tracks[0].class, class("cube"));
         assert_eq!(tracks[0].color, Some(RED));
         assert_eq!(tracks[0].observations.len(), 12);
         assert_eq!(tracks[0].observations[4].centroid, [32.0, 50.0]);
@@ -677,20 +679,14 @@ mod tests {
         let frames: Vec<_> = (0..20)
             .map(|f| {
                 let mut d = vec![square(
-                    ObjectClass::SolidStaticPulley,
+                    class("solid static pulley"),
                     Some(GREEN),
                     150,
                     30,
                     10,
                 )];
                 if !(8..=12).contains(&f) {
-                    d.push(square(
-                        ObjectClass::Sphere,
-                        Some(BLUE),
-                        40,
-                        30 + 2 * px(f),
-                        5,
-                    ));
+                    d.push(square(class("sphere"), Some(BLUE), 40, 30 + 2 * px(f), 5));
                 }
                 (f, d)
             })
@@ -699,11 +695,11 @@ mod tests {
         assert_eq!(tracks.len(), 2);
         assert_eq!(
             (tracks[0].class, tracks[0].observations.len()),
-            (ObjectClass::Sphere, 15)
+            (class("sphere"), 15)
         );
         assert_eq!(
             (tracks[1].class, tracks[1].observations.len()),
-            (ObjectClass::SolidStaticPulley, 20)
+            (class("solid static pulley"), 20)
         );
         assert_eq!(tracks[0].at_frame(13).map(|o| o.centroid[1]), Some(56.0));
 
@@ -716,7 +712,7 @@ mod tests {
         assert_eq!(tracks.len(), 3);
         assert_eq!(tracks[0].last_frame(), Some(7));
         assert_eq!(tracks[2].first_frame(), Some(13));
-        assert_eq!(tracks[2].class, ObjectClass::Sphere);
+        assert_eq!(tracks[2].class, class("sphere"));
     }
 
     #[test]
@@ -733,17 +729,17 @@ mod tests {
                 }
                 if f == 6 {
                     // A lone false positive far away.
-                    d.push(square(ObjectClass::Rope, Some(GREEN), 20, 150, 3));
+                    d.push(square(class("rope"), Some(GREEN), 20, 150, 3));
                 }
                 if f >= 10 {
-                    d.push(square(ObjectClass::Sphere, Some(BLUE), 30, 30, 5));
+                    d.push(square(class("sphere"), Some(BLUE), 30, 30, 5));
                 }
                 (f, d)
             })
             .collect();
         let tracks = run(&frames);
         assert_eq!(tracks.len(), 2);
-        assert_eq!((tracks[0].id, tracks[0].class), (0, ObjectClass::Cube));
+        assert_eq!((tracks[0].id, tracks[0].class), (0, class("cube")));
         assert_eq!(tracks[0].observations.len(), 16);
         // In frame 4 the cube's track took the real cube (index 1), not the ghost.
         assert_eq!(tracks[0].at_frame(4).map(|o| o.detection), Some(1));
@@ -751,7 +747,7 @@ mod tests {
             tracks[0].at_frame(4).map(|o| o.centroid),
             Some([100.0, 44.0])
         );
-        assert_eq!((tracks[1].id, tracks[1].class), (1, ObjectClass::Sphere));
+        assert_eq!((tracks[1].id, tracks[1].class), (1, class("sphere")));
         assert_eq!(tracks[1].first_frame(), Some(10));
         // Keeping single observations, the ghost and the false positive become tracks 1 and 2.
         let config = TrackerConfig {
@@ -766,10 +762,10 @@ mod tests {
         assert_eq!(
             firsts,
             vec![
-                (0, Some(0), ObjectClass::Cube),
-                (1, Some(4), ObjectClass::Cube),
-                (2, Some(6), ObjectClass::Rope),
-                (3, Some(10), ObjectClass::Sphere),
+                (0, Some(0), class("cube")),
+                (1, Some(4), class("cube")),
+                (2, Some(6), class("rope")),
+                (3, Some(10), class("sphere")),
             ]
         );
     }
@@ -783,7 +779,7 @@ mod tests {
                     d.color = Some(BLUE);
                 }
                 if f == 3 {
-                    d.class = ObjectClass::Sphere;
+                    d.class = class("sphere");
                     d.score = 0.95;
                 }
                 (f, vec![d])
@@ -793,7 +789,7 @@ mod tests {
         assert_eq!(tracks.len(), 1);
         assert_eq!(tracks[0].observations.len(), 6);
         assert_eq!(tracks[0].color, Some(RED));
-        assert_eq!(tracks[0].class, ObjectClass::Cube);
+        assert_eq!(tracks[0].class, class("cube"));
     }
 
     /// A vertical rope `x0..x0 + 3` from `top` to `bottom`, over a 200×200 frame.
@@ -803,7 +799,7 @@ mod tests {
         });
         Detection {
             frame: 0,
-            class: ObjectClass::Rope,
+            class: class("rope"),
             score: 0.8,
             bbox: [x0 as f32, top as f32, (x0 + 3) as f32, bottom as f32],
             mask,
@@ -824,7 +820,7 @@ mod tests {
                     left.color = Some(GREEN);
                 }
                 let d = vec![
-                    square(ObjectClass::SolidStaticPulley, Some(GREEN), 100, 40, 12),
+                    square(class("solid static pulley"), Some(GREEN), 100, 40, 12),
                     left,
                     rope(BLUE, 110, 30, 120 - f),
                     cube(BLUE, 89, 126 + i64::from(f)),
@@ -841,10 +837,10 @@ mod tests {
             summary,
             vec![
                 // The cube's centroid (x = 89.0) is left of the left rope's (89.5).
-                (0, ObjectClass::Cube, Some(BLUE), 12),
-                (1, ObjectClass::Rope, Some(RED), 12),
-                (2, ObjectClass::SolidStaticPulley, Some(GREEN), 12),
-                (3, ObjectClass::Rope, Some(BLUE), 12),
+                (0, class("cube"), Some(BLUE), 12),
+                (1, class("rope"), Some(RED), 12),
+                (2, class("solid static pulley"), Some(GREEN), 12),
+                (3, class("rope"), Some(BLUE), 12),
             ]
         );
         for t in &tracks {
@@ -862,8 +858,8 @@ mod tests {
                 let mut d = vec![
                     cube(RED, 20 + 3 * k, 50),
                     cube(BLUE, 80 - 3 * k, 50),
-                    square(ObjectClass::Rope, Some(GREEN), 60, 100, 20),
-                    square(ObjectClass::HollowDynamicPulley, Some(RED), 60, 120 - k, 8),
+                    square(class("rope"), Some(GREEN), 60, 100, 20),
+                    square(class("hollow dynamic pulley"), Some(RED), 60, 120 - k, 8),
                 ];
                 if f % 3 == 1 {
                     d.remove(1);

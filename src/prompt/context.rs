@@ -7,8 +7,8 @@
 //! | `api_spec` | the text of `api_spec/scene_api.pyi` |
 //! | `api_spec_version` | the text of `api_spec/VERSION`, trimmed |
 //! | `scenario` | the question's scenario: `rope`, `fluid`, `cloth`, `ball` |
-//! | `scenarios` | every scenario in the paper's order, each `{name, objects}` |
-//! | `colors` | the colour words `find` understands |
+//! | `scenarios` | every scenario in the paper's order, each `{name, objects}` (from the scenario table) |
+//! | `colors` | the colour words `find` understands (the release's palette) |
 //! | `family` | the question family (`mass`, `rope_counterfactual`, ...) |
 //! | `category` | `property`, `counterfactual`, `goal_driven` or `predictive` |
 //! | `answer_type` | `open_ended`, `single_choice` or `multiple_choice` |
@@ -26,7 +26,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::dataset::{ChoiceOption, Question, Scenario};
+use crate::dataset::{ChoiceOption, Question};
+use crate::perception::palette::color_words;
 
 /// How a choice question becomes programs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -73,44 +74,14 @@ impl FromStr for PromptMode {
     }
 }
 
-/// The object words of each scenario, as the paper's prompt lists them (plus the ball scenes'
-/// floating walls, which its questions name). `scene_api`'s `find` vocabulary uses the same
-/// words; a test keeps the two equal.
-pub fn scene_objects(scenario: Scenario) -> &'static [&'static str] {
-    match scenario {
-        Scenario::Rope => &["cube", "sphere", "pulley", "rope", "fixed point"],
-        Scenario::Fluid => &["fluid", "container", "stick", "emitter"],
-        Scenario::Cloth => &["cloth", "pillar", "plate"],
-        Scenario::Ball => &["ball", "stick", "pit", "floating wall"],
-    }
-}
-
-/// The colour words `find` understands (the generator's palette), as the prompt shows them.
-pub const COLOR_WORDS: [&str; 17] = [
-    "red",
-    "orange",
-    "yellow",
-    "green",
-    "cyan",
-    "blue",
-    "purple",
-    "pink",
-    "brown",
-    "gray",
-    "black",
-    "white",
-    "light blue",
-    "light green",
-    "light yellow",
-    "light coral",
-    "light purple",
-];
-
-/// One scenario's object words.
-#[derive(Debug, Clone, Serialize)]
-pub(crate) struct ScenarioObjects {
-    name: &'static str,
-    objects: &'static [&'static str],
+/// One scenario's name and object words, as the guidelines list them (the scenario's
+/// vocabulary, given by the caller from the scenario table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct SceneWords {
+    /// The scenario's name (`rope`).
+    pub name: &'static str,
+    /// Its object kinds, in the prompt's order.
+    pub objects: &'static [&'static str],
 }
 
 /// An option as templates see it.
@@ -156,7 +127,7 @@ pub(crate) struct PromptContext<'a> {
     api_spec: &'a str,
     api_spec_version: &'a str,
     scenario: &'static str,
-    scenarios: Vec<ScenarioObjects>,
+    scenarios: &'a [SceneWords],
     colors: &'static [&'static str],
     family: &'a str,
     category: &'static str,
@@ -169,26 +140,20 @@ pub(crate) struct PromptContext<'a> {
 }
 
 impl<'a> PromptContext<'a> {
-    /// The context for `unit` of `question`.
+    /// The context for `unit` of `question`; `scenes` are every scenario's words.
     pub(crate) fn new(
         question: &'a Question,
         unit: Unit<'a>,
         mode: PromptMode,
-        api_spec: &'a str,
-        api_spec_version: &'a str,
+        (api_spec, api_spec_version): (&'a str, &'a str),
+        scenes: &'a [SceneWords],
     ) -> Self {
         PromptContext {
             api_spec,
             api_spec_version,
             scenario: question.scenario.name(),
-            scenarios: Scenario::ALL
-                .into_iter()
-                .map(|scenario| ScenarioObjects {
-                    name: scenario.name(),
-                    objects: scene_objects(scenario),
-                })
-                .collect(),
-            colors: &COLOR_WORDS,
+            scenarios: scenes,
+            colors: color_words(),
             family: &question.family.0,
             category: question.category().name(),
             answer_type: question.answer_type.as_str(),

@@ -27,7 +27,7 @@ mod example;
 mod files;
 mod render;
 
-pub use context::{COLOR_WORDS, PromptMode, scene_objects};
+pub use context::{PromptMode, SceneWords};
 pub use error::PromptError;
 pub use example::{Example, ExampleCheck};
-pub use render::{ChatMessage, PromptSet, RenderedPrompt, render};
+pub use render::{ChatMessage, PromptSet, RenderedPrompt, error_chain};

@@ -2,13 +2,13 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, Mutex};
 
 use minijinja::value::{Object, Serde, Value};
 use minijinja::{AutoEscape, Environment, ErrorKind, State, UndefinedBehavior};
 use serde::{Deserialize, Serialize};
 
-use super::context::{PromptContext, PromptMode, unit_of};
+use super::context::{PromptContext, PromptMode, SceneWords, unit_of};
 use super::error::PromptError;
 use super::example::Example;
 use super::files::{embedded_files, read_dir_files};
@@ -83,6 +83,8 @@ pub struct PromptSet {
     api_spec_version: String,
     /// Where the set came from, for messages: `embedded`, or the override directory.
     origin: String,
+    /// Every scenario's words, as the guidelines list them.
+    scenes: Vec<SceneWords>,
 }
 
 impl std::fmt::Debug for PromptSet {
@@ -96,18 +98,9 @@ impl std::fmt::Debug for PromptSet {
 }
 
 impl PromptSet {
-    /// The set compiled into the binary.
-    pub fn embedded() -> Result<PromptSet, PromptError> {
-        PromptSet::from_files(embedded_files(), "embedded".to_string())
-    }
-
-    /// The embedded set, built once per process.
-    pub fn shared() -> Result<&'static PromptSet, PromptError> {
-        static SHARED: OnceLock<Result<PromptSet, String>> = OnceLock::new();
-        SHARED
-            .get_or_init(|| PromptSet::embedded().map_err(|error| error_chain(&error)))
-            .as_ref()
-            .map_err(|message| PromptError::Embedded(message.clone()))
+    /// The set compiled into the binary; `scenes` are the scenarios' words the guidelines list.
+    pub fn embedded(scenes: &[SceneWords]) -> Result<PromptSet, PromptError> {
+        PromptSet::from_files(embedded_files(), "embedded".to_string(), scenes)
     }
 
     /// The embedded set with the files under `dir` in place of (or added to) the embedded ones.
@@ -116,15 +109,16 @@ impl PromptSet {
     /// `dir/prompts/partials/...`, `dir/api_spec/scene_api.pyi`, `dir/api_spec/VERSION`,
     /// `dir/api_spec/examples/<scenario>/<name>.py`. A user who edits one template copies just
     /// that file; the repository root itself is a valid `dir`.
-    pub fn load(dir: &Path) -> Result<PromptSet, PromptError> {
+    pub fn load(dir: &Path, scenes: &[SceneWords]) -> Result<PromptSet, PromptError> {
         let mut files = embedded_files();
         files.extend(read_dir_files(dir)?);
-        PromptSet::from_files(files, dir.display().to_string())
+        PromptSet::from_files(files, dir.display().to_string(), scenes)
     }
 
     fn from_files(
         files: BTreeMap<String, String>,
         origin: String,
+        scenes: &[SceneWords],
     ) -> Result<PromptSet, PromptError> {
         let api_spec_version = files
             .get(VERSION_PATH)
@@ -195,6 +189,7 @@ impl PromptSet {
             examples,
             api_spec_version,
             origin,
+            scenes: scenes.to_vec(),
         })
     }
 
@@ -237,7 +232,13 @@ impl PromptSet {
             .get(API_SPEC_PATH)
             .map_or("", String::as_str)
             .trim_end();
-        let context = PromptContext::new(question, unit, mode, api_spec, &self.api_spec_version);
+        let context = PromptContext::new(
+            question,
+            unit,
+            mode,
+            (api_spec, &self.api_spec_version),
+            &self.scenes,
+        );
         let used = Arc::new(UsedExamples::default());
         let context = minijinja::context! {
             used_examples => Value::from_dyn_object(Arc::clone(&used)),
@@ -276,15 +277,6 @@ impl PromptSet {
             api_spec_version: self.api_spec_version.clone(),
         })
     }
-}
-
-/// Renders with the embedded prompt set (see [`PromptSet::render`]).
-pub fn render(
-    question: &Question,
-    option: Option<&ChoiceOption>,
-    mode: PromptMode,
-) -> Result<RenderedPrompt, PromptError> {
-    PromptSet::shared()?.render(question, option, mode)
 }
 
 /// The example paths one render used.
@@ -423,7 +415,8 @@ fn undefined_variable(
 }
 
 /// The error and its causes on one line, for the shared set's cached failure.
-fn error_chain(error: &PromptError) -> String {
+/// The message of `error` and its sources, joined by `: `.
+pub fn error_chain(error: &PromptError) -> String {
     let mut message = error.to_string();
     let mut source = std::error::Error::source(error);
     while let Some(cause) = source {

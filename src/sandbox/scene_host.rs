@@ -13,10 +13,15 @@ use std::sync::Arc;
 use rustpython_vm::builtins::{PyBaseExceptionRef, PyList, PyStr, PyTuple, PyType, PyTypeRef};
 use rustpython_vm::class::PyClassImpl;
 use rustpython_vm::function::FuncArgs;
-use rustpython_vm::types::{Comparable, Constructor, Hashable, PyComparisonOp, Representable};
-use rustpython_vm::{Py, PyObject, PyObjectRef, PyPayload, PyResult, VirtualMachine, pyclass};
+use rustpython_vm::types::{
+    Comparable, Constructor, GetAttr, Hashable, PyComparisonOp, Representable,
+};
+use rustpython_vm::{
+    AsObject, Py, PyObject, PyObjectRef, PyPayload, PyResult, VirtualMachine, pyclass,
+};
 
 use super::{ApiClock, Host, HostRegistry, HostSpec, InstallContext};
+use crate::scenarios;
 use crate::scene_api::{
     ApiError, ObjectId, Scene, SceneEvent as RustEvent, SceneObjectInfo, Target, VideoSpec,
     WorkCounters,
@@ -45,8 +50,9 @@ pub struct SceneHost {
 impl SceneHost {
     /// A host for `video`; nothing is read until a program asks.
     pub fn new(video: VideoSpec) -> SceneHost {
+        let parts = scenarios::scene_parts(video.scenario);
         SceneHost {
-            scene: Arc::new(Scene::open(video)),
+            scene: Arc::new(Scene::open(video, parts)),
             reported: WorkCounters::default(),
         }
     }
@@ -421,7 +427,7 @@ pub(crate) struct SceneObject {
     info: SceneObjectInfo,
 }
 
-#[pyclass(with(Constructor, Representable, Comparable, Hashable))]
+#[pyclass(with(Constructor, Representable, Comparable, Hashable, GetAttr))]
 impl SceneObject {
     #[pygetset]
     fn name(&self) -> String {
@@ -440,22 +446,28 @@ impl SceneObject {
 
     #[pygetset(name = "type")]
     fn kind_type(&self) -> String {
-        self.info.kind.clone()
+        self.info.kind.to_string()
     }
 
     #[pygetset]
     fn kind(&self) -> String {
-        self.info.kind.clone()
+        self.info.kind.to_string()
     }
+}
 
-    #[pygetset]
-    fn shape(&self) -> Option<String> {
-        self.info.shape.clone()
-    }
-
-    #[pygetset]
-    fn dynamic(&self) -> String {
-        self.info.dynamics.clone()
+/// The attributes of the object's scenario (rope: `shape`, `dynamic`) read as Python
+/// attributes: the object's value, or `None` when it has none. Every other name is looked up as
+/// usual.
+impl GetAttr for SceneObject {
+    fn getattro(zelf: &Py<Self>, name: &Py<PyStr>, vm: &VirtualMachine) -> PyResult {
+        let key = name.to_string_lossy();
+        if zelf.info.has_readable_attribute(&key) {
+            return Ok(zelf
+                .info
+                .attribute(&key)
+                .map_or_else(|| vm.ctx.none(), |value| vm.ctx.new_str(value).into()));
+        }
+        zelf.as_object().generic_getattr(name, vm)
     }
 }
 
@@ -1012,6 +1024,14 @@ answer = execute_command(video)
             (
                 "s = SoftScene(video, 'rope')\nanswer = s.find('cube')[0] == s.find('purple')[0], len({o for o in s.find('cube') + s.find('cube')})",
                 "[true,2]",
+            ),
+            (
+                "s = SoftScene(video, 'rope')\np = s.find('gray pulley')[0]\nc = s.find('purple cube')[0]\nanswer = (p.shape, p.dynamic, p.kind, p.type, c.shape, c.dynamic, c.color, p.full_name)",
+                "[\"hollow\",\"static\",\"pulley\",\"pulley\",null,\"dynamic\",\"purple\",\"Gray Hollow Static Pulley (0 2)\"]",
+            ),
+            (
+                "s = SoftScene(video, 'rope')\ntry:\n    s.find('gray pulley')[0].grid\nexcept AttributeError:\n    answer = 'no grid attribute'",
+                "\"no grid attribute\"",
             ),
             (
                 "answer = repr(SoftScene(video, 'rope').find('brown fixed point')[0])",

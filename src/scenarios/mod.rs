@@ -14,10 +14,15 @@ use std::sync::OnceLock;
 
 use crate::dataset::engine::{self, QuestionEngine};
 use crate::dataset::{self, FamilyIndex, Scenario, Vocabulary};
+use crate::dataset::{ChoiceOption, Question};
+use crate::perception::{self, ScenarioPerception};
 use crate::program::builtin::{self, Writer};
+use crate::prompt::{PromptError, PromptMode, PromptSet, RenderedPrompt, SceneWords, error_chain};
+use crate::scene_api::{self, BackendLoader, InferenceBench, ReadingCheck, SceneParts};
+use crate::synth::{self, ScenarioSynth};
 
 /// One scenario's parts.
-#[derive(Debug, Clone, Copy)]
+#[derive(Clone, Copy)]
 pub struct ScenarioParts {
     /// The scenario.
     pub scenario: Scenario,
@@ -26,8 +31,33 @@ pub struct ScenarioParts {
     pub vocabulary: &'static Vocabulary,
     /// Its question engine (`questions`, `generate`).
     pub engine: Option<&'static QuestionEngine>,
+    /// Its generator of synthetic videos (`generate`).
+    pub synth: Option<&'static dyn ScenarioSynth>,
     /// The builtin writer's programs for its questions.
     pub writer: Option<&'static Writer>,
+    /// Its scene API backend (`scene_api/<scenario>/`).
+    pub scene: Option<BackendLoader>,
+    /// Its detector classes and default model files, for `--perception maskrcnn`.
+    pub perception: Option<&'static ScenarioPerception>,
+    /// Its check of what perception reads of a scene against the annotations (`bench
+    /// perception`).
+    pub reading_check: Option<ReadingCheck>,
+    /// Its check of properties inferred from the video (`bench inference`).
+    pub inference_bench: Option<InferenceBench>,
+}
+
+impl std::fmt::Debug for ScenarioParts {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        formatter
+            .debug_struct("ScenarioParts")
+            .field("scenario", &self.scenario)
+            .field("engine", &self.engine.is_some())
+            .field("synth", &self.synth.is_some())
+            .field("writer", &self.writer.is_some())
+            .field("scene", &self.scene.is_some())
+            .field("perception", &self.perception.is_some())
+            .finish_non_exhaustive()
+    }
 }
 
 /// The table, in the paper's order.
@@ -36,25 +66,45 @@ static TABLE: [ScenarioParts; 4] = [
         scenario: Scenario::Rope,
         vocabulary: &dataset::rope::VOCABULARY,
         engine: Some(&engine::rope::ENGINE),
+        synth: Some(&synth::rope::RopeSynth),
         writer: Some(&builtin::rope::WRITER),
+        scene: Some(scene_api::rope::load),
+        perception: Some(&perception::rope::PERCEPTION),
+        reading_check: Some(scene_api::rope::mechanism_report),
+        inference_bench: Some(scene_api::rope::inference_report),
     },
     ScenarioParts {
         scenario: Scenario::Fluid,
         vocabulary: &dataset::fluid::VOCABULARY,
         engine: None,
+        synth: None,
         writer: None,
+        scene: None,
+        perception: None,
+        reading_check: None,
+        inference_bench: None,
     },
     ScenarioParts {
         scenario: Scenario::Cloth,
         vocabulary: &dataset::cloth::VOCABULARY,
         engine: None,
+        synth: None,
         writer: None,
+        scene: None,
+        perception: None,
+        reading_check: None,
+        inference_bench: None,
     },
     ScenarioParts {
         scenario: Scenario::Ball,
         vocabulary: &dataset::ball::VOCABULARY,
         engine: None,
+        synth: None,
         writer: None,
+        scene: None,
+        perception: None,
+        reading_check: None,
+        inference_bench: None,
     },
 ];
 
@@ -69,6 +119,50 @@ pub fn parts(scenario: Scenario) -> &'static ScenarioParts {
         .iter()
         .find(|row| row.scenario == scenario)
         .expect("the table has a row for every scenario (a test checks it)")
+}
+
+/// What the scene API needs of `scenario`: its vocabulary, every scenario's vocabulary, and its
+/// backend.
+pub fn scene_parts(scenario: Scenario) -> SceneParts {
+    static VOCABULARIES: OnceLock<Vec<&'static Vocabulary>> = OnceLock::new();
+    let row = parts(scenario);
+    SceneParts {
+        vocabulary: row.vocabulary,
+        all_vocabularies: VOCABULARIES.get_or_init(|| TABLE.iter().map(|r| r.vocabulary).collect()),
+        backend: row.scene,
+    }
+}
+
+/// Every scenario's words as the prompt's guidelines list them, in the paper's order.
+pub fn scene_words() -> &'static [SceneWords] {
+    static WORDS: OnceLock<Vec<SceneWords>> = OnceLock::new();
+    WORDS.get_or_init(|| {
+        TABLE
+            .iter()
+            .map(|row| SceneWords {
+                name: row.scenario.name(),
+                objects: row.vocabulary.kinds,
+            })
+            .collect()
+    })
+}
+
+/// The embedded prompt set with every scenario's words, built once per process.
+pub fn prompts() -> Result<&'static PromptSet, PromptError> {
+    static SHARED: OnceLock<Result<PromptSet, String>> = OnceLock::new();
+    SHARED
+        .get_or_init(|| PromptSet::embedded(scene_words()).map_err(|error| error_chain(&error)))
+        .as_ref()
+        .map_err(|message| PromptError::Embedded(message.clone()))
+}
+
+/// Renders one unit's prompt with the embedded prompt set (see [`PromptSet::render`]).
+pub fn render_prompt(
+    question: &Question,
+    option: Option<&ChoiceOption>,
+    mode: PromptMode,
+) -> Result<RenderedPrompt, PromptError> {
+    prompts()?.render(question, option, mode)
 }
 
 /// Every scenario's question families, for telling a question file's scenario from its records.

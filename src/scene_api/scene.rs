@@ -6,10 +6,9 @@ use std::sync::{Mutex, OnceLock};
 use serde::{Deserialize, Serialize};
 
 use super::error::{ApiError, misuse};
+use super::find::{Words, parse_object_query};
 use super::object::{ObjectId, SceneObjectInfo};
-use super::rope::RopeBackend;
-use super::vocabulary::parse_object_query;
-use crate::dataset::{Scenario, VideoFolder};
+use crate::dataset::{Scenario, VideoFolder, Vocabulary};
 
 /// Where objects, masks and tracks come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
@@ -24,22 +23,14 @@ pub enum PerceptionBackend {
     MaskRcnn,
 }
 
-/// The model files `--perception maskrcnn` runs.
+/// The model files `--perception maskrcnn` runs (the scenario's defaults from the scenario
+/// table, or the command line's).
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct PerceptionModels {
-    /// The Mask R-CNN ONNX model.
+    /// The Mask R-CNN ONNX model (its class description is the `.json` beside it).
     pub detector: PathBuf,
     /// The colour model (`perception fit-colors`).
     pub colors: PathBuf,
-}
-
-impl Default for PerceptionModels {
-    fn default() -> Self {
-        PerceptionModels {
-            detector: PathBuf::from("models/maskrcnn-rope.onnx"),
-            colors: PathBuf::from("models/color-model.json"),
-        }
-    }
 }
 
 /// Where dynamics answers come from.
@@ -49,8 +40,8 @@ pub enum DynamicsBackend {
     /// Read from the counterfactual and factual result annotations (the paper's offline mode).
     #[default]
     Annotation,
-    /// Simulated from the mechanism rebuilt from the video (rope: `physics::rope`), as ContPRO
-    /// does.
+    /// Simulated from the scene rebuilt from the video with the scenario's simulator, as
+    /// ContPRO does.
     Simulate,
 }
 
@@ -67,13 +58,12 @@ pub struct VideoSpec {
     pub perception: PerceptionBackend,
     /// The dynamics backend.
     pub dynamics: DynamicsBackend,
-    /// The models of `--perception maskrcnn`.
-    #[serde(default)]
-    pub models: PerceptionModels,
+    /// The models of `--perception maskrcnn`; `None` for a scenario without perception.
+    pub models: Option<PerceptionModels>,
 }
 
 impl VideoSpec {
-    /// A spec for `video` with the given backends.
+    /// A spec for `video` with the given backends and no perception models.
     pub fn new(
         video: &VideoFolder,
         perception: PerceptionBackend,
@@ -85,16 +75,51 @@ impl VideoSpec {
             scenario: video.scenario,
             perception,
             dynamics,
-            models: PerceptionModels::default(),
+            models: None,
         }
     }
 
     /// The spec with `models` for `--perception maskrcnn`.
     #[must_use]
-    pub fn with_models(mut self, models: PerceptionModels) -> Self {
+    pub fn with_models(mut self, models: Option<PerceptionModels>) -> Self {
         self.models = models;
         self
     }
+
+    /// The models of `--perception maskrcnn`, or the error a backend reports without them.
+    pub fn perception_models(&self) -> Result<&PerceptionModels, ApiError> {
+        self.models.as_ref().ok_or_else(|| {
+            ApiError::Unavailable(format!(
+                "perception (maskrcnn): there are no models for {} scenes",
+                self.scenario
+            ))
+        })
+    }
+}
+
+/// Loads the backend of one video of a scenario.
+pub type BackendLoader = fn(&VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError>;
+
+/// A scenario's check of what perception reads of its scenes against their annotations (rope:
+/// the mechanism), for `bench perception`: a JSON report over the videos.
+pub type ReadingCheck =
+    fn(&[VideoFolder], &PerceptionModels) -> Result<serde_json::Value, ApiError>;
+
+/// A scenario's check of properties inferred from its videos against their annotations, for
+/// `bench inference`: the valid videos and the noise levels (standard deviations, units) added
+/// to the tracks, to a JSON report.
+pub type InferenceBench = fn(&[VideoFolder], &[f64]) -> Result<serde_json::Value, ApiError>;
+
+/// What the scene API needs of a scenario (its row of the scenario table): its words and its
+/// backend.
+#[derive(Debug, Clone, Copy)]
+pub struct SceneParts {
+    /// The scenario's vocabulary.
+    pub vocabulary: &'static Vocabulary,
+    /// Every scenario's vocabulary, for words that name other scenarios' objects.
+    pub all_vocabularies: &'static [&'static Vocabulary],
+    /// Its backend; `None` for a scenario without one yet.
+    pub backend: Option<BackendLoader>,
 }
 
 /// Work done on behalf of programs, so a prediction shows what it cost and a property question
@@ -233,8 +258,8 @@ pub enum Target {
     Objects(Vec<ObjectId>),
 }
 
-/// The per-scenario implementation behind a [`Scene`].
-pub(crate) trait ScenarioBackend: Send + Sync {
+/// The per-scenario implementation behind a [`Scene`] (`scene_api/<scenario>/`).
+pub trait ScenarioBackend: Send + Sync {
     /// The scene's objects, in a fixed order; `ObjectId(i)` is element `i`.
     fn objects(&self) -> &[SceneObjectInfo];
     /// Property values of one or two objects; two `None`s when the video cannot compare them.
@@ -267,6 +292,7 @@ pub(crate) trait ScenarioBackend: Send + Sync {
 /// One video's scene. Opening reads nothing; the first call that needs data loads it once.
 pub struct Scene {
     spec: VideoSpec,
+    parts: SceneParts,
     backend: OnceLock<Result<Box<dyn ScenarioBackend>, ApiError>>,
     work: Mutex<WorkCounters>,
 }
@@ -281,10 +307,11 @@ impl std::fmt::Debug for Scene {
 }
 
 impl Scene {
-    /// A scene for `spec`; nothing is read yet.
-    pub fn open(spec: VideoSpec) -> Scene {
+    /// A scene for `spec`, answered by its scenario's `parts`; nothing is read yet.
+    pub fn open(spec: VideoSpec, parts: SceneParts) -> Scene {
         Scene {
             spec,
+            parts,
             backend: OnceLock::new(),
             work: Mutex::new(WorkCounters::default()),
         }
@@ -318,7 +345,13 @@ impl Scene {
     fn backend(&self) -> Result<&dyn ScenarioBackend, ApiError> {
         let loaded = self.backend.get_or_init(|| {
             self.count(|w| w.annotation_loads += 1);
-            load_backend(&self.spec)
+            match self.parts.backend {
+                Some(load) => load(&self.spec),
+                None => Err(ApiError::Unavailable(format!(
+                    "the {} scene API has no backend yet",
+                    self.spec.scenario
+                ))),
+            }
         });
         match loaded {
             Ok(backend) => Ok(backend.as_ref()),
@@ -338,32 +371,39 @@ impl Scene {
             .ok_or_else(|| misuse(format!("object #{} does not belong to this scene", id.0)))
     }
 
-    /// `find(name)`: the objects matching every colour, kind, shape, dynamics and grid word of
-    /// `name`, in scene order; empty when nothing matches.
+    /// `find(name)`: the objects matching every colour, kind and attribute word of `name`, in
+    /// scene order; empty when nothing matches.
     pub fn find(&self, name: &str) -> Result<Vec<ObjectId>, ApiError> {
         self.count(|w| w.api_calls += 1);
-        let query = parse_object_query(name, self.spec.scenario)?;
+        let words = Words {
+            scenario: self.spec.scenario.name(),
+            own: self.parts.vocabulary,
+            all: self.parts.all_vocabularies,
+        };
+        let query = parse_object_query(name, words)?;
         if query.foreign_kind {
             return Ok(Vec::new());
         }
+        let group = query
+            .kind
+            .as_deref()
+            .and_then(|kind| self.parts.vocabulary.group(kind));
         let objects = self.objects()?;
         Ok(objects
             .iter()
             .filter(|o| o.visible)
             .filter(|o| query.color.as_ref().is_none_or(|c| *c == o.color))
-            .filter(|o| match query.kind.as_deref() {
-                None => true,
-                Some("load") => o.kind == "cube" || o.kind == "sphere",
-                Some(kind) => o.kind == kind,
+            .filter(|o| match (group, query.kind.as_deref()) {
+                (Some(kinds), _) => kinds.contains(&o.kind),
+                (None, Some(kind)) => o.kind == kind,
+                (None, None) => true,
             })
             .filter(|o| {
                 query
-                    .shape
-                    .as_ref()
-                    .is_none_or(|s| o.shape.as_ref() == Some(s))
+                    .attributes
+                    .iter()
+                    .all(|(attribute, value)| o.attribute(attribute) == Some(value.as_str()))
             })
-            .filter(|o| query.dynamics.as_ref().is_none_or(|d| *d == o.dynamics))
-            .filter(|o| query.grid.is_none_or(|g| o.grid == Some(g)))
             .map(|o| o.id)
             .collect())
     }
@@ -439,14 +479,5 @@ impl Scene {
         };
         self.backend()?
             .happen(event, *object, &action.trim().to_lowercase(), target)
-    }
-}
-
-fn load_backend(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
-    match spec.scenario {
-        Scenario::Rope => Ok(Box::new(RopeBackend::load(spec)?)),
-        other => Err(ApiError::Unavailable(format!(
-            "the {other} scene API has no backend yet; only rope scenes can be answered in this version"
-        ))),
     }
 }

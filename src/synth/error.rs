@@ -38,8 +38,13 @@ pub enum SynthError {
         last: String,
     },
     /// The scenario has no generator yet.
-    #[error("the {0} scenario has no generator yet; `generate` supports: rope")]
-    Unsupported(String),
+    #[error("the {scenario} scenario has no generator yet; `generate` supports: {supported}")]
+    Unsupported {
+        /// The scenario asked for.
+        scenario: String,
+        /// The scenarios with a generator, comma separated.
+        supported: String,
+    },
 }
 
 impl From<crate::util::FsError> for SynthError {

@@ -11,10 +11,11 @@ use std::rc::Rc;
 use contphy_eval::dataset::{
     ChoiceOption, Question, Scenario, VideoFolder, VideoId, load_question_file,
 };
-use contphy_eval::prompt::{COLOR_WORDS, ExampleCheck, PromptSet, scene_objects};
+use contphy_eval::prompt::{ExampleCheck, PromptSet};
 use contphy_eval::sandbox::{Budgets, Error, Host, InstallContext, Sandbox, SceneHost};
+use contphy_eval::scenarios;
 use contphy_eval::scene_api::{
-    COLOR_NAMES, DynamicsBackend, PerceptionBackend, VideoSpec, parse_object_query,
+    DynamicsBackend, PerceptionBackend, VideoSpec, Words, parse_object_query,
 };
 use rustpython_vm::builtins::PyType;
 use rustpython_vm::{PyObjectRef, PyResult};
@@ -269,7 +270,16 @@ fn bound_shape() -> ApiShape {
     };
     let mut sandbox = Sandbox::new();
     run(&mut sandbox, &mut probe, "answer = 1").unwrap();
-    seen.take()
+    let mut shape = seen.take();
+    // `SceneObject` serves its scenario's attributes by name (`__getattribute__`), so the probe
+    // cannot list them: they are the scenarios' vocabulary attributes.
+    let object = shape.classes.entry("SceneObject".to_string()).or_default();
+    for row in scenarios::all() {
+        for attribute in row.vocabulary.attributes {
+            object.insert(attribute.name.to_string());
+        }
+    }
+    shape
 }
 
 fn pyi_text() -> String {
@@ -419,7 +429,7 @@ fn demo_gold() -> BTreeMap<String, String> {
     let questions: Vec<Question> = load_question_file(
         &demo().join("pulley_group/0.json"),
         None,
-        contphy_eval::scenarios::families(),
+        scenarios::families(),
     )
     .unwrap()
     .questions;
@@ -450,7 +460,7 @@ fn demo_gold() -> BTreeMap<String, String> {
 
 #[test]
 fn every_rope_example_gives_its_expected_answer_on_the_demo_video() {
-    let set = PromptSet::embedded().unwrap();
+    let set = PromptSet::embedded(scenarios::scene_words()).unwrap();
     let gold = demo_gold();
     let mut sandbox = Sandbox::new();
     let mut host = demo_host();
@@ -512,7 +522,7 @@ fn every_rope_example_gives_its_expected_answer_on_the_demo_video() {
 
 #[test]
 fn examples_of_other_scenarios_pass_the_sandbox_checks_and_stop_at_the_scene_name() {
-    let set = PromptSet::embedded().unwrap();
+    let set = PromptSet::embedded(scenarios::scene_words()).unwrap();
     let mut sandbox = Sandbox::new();
     let mut host = demo_host();
     let mut seen = BTreeSet::new();
@@ -543,14 +553,26 @@ fn examples_of_other_scenarios_pass_the_sandbox_checks_and_stop_at_the_scene_nam
 
 #[test]
 fn prompt_vocabulary_is_what_find_understands() {
-    assert_eq!(COLOR_WORDS, COLOR_NAMES);
+    // Every object word the prompt lists for any scenario is understood in every scene: as a
+    // kind there, or as another scenario's object that finds nothing.
+    let scenes = scenarios::scene_words();
+    assert_eq!(
+        scenes.iter().map(|s| s.name).collect::<Vec<_>>(),
+        Scenario::ALL.map(Scenario::name)
+    );
     for scenario in Scenario::ALL {
-        for other in Scenario::ALL {
-            for word in scene_objects(other) {
-                let query = parse_object_query(word, scenario).unwrap();
+        let parts = scenarios::scene_parts(scenario);
+        let words = Words {
+            scenario: scenario.name(),
+            own: parts.vocabulary,
+            all: parts.all_vocabularies,
+        };
+        for other in scenes {
+            for word in other.objects {
+                let query = parse_object_query(word, words).unwrap();
                 assert_eq!(
                     query.foreign_kind,
-                    !scene_objects(scenario).contains(word),
+                    !parts.vocabulary.kinds.contains(word),
                     "`{word}` in a {scenario} scene"
                 );
                 assert_eq!(query.kind.as_deref(), Some(*word));
@@ -561,8 +583,8 @@ fn prompt_vocabulary_is_what_find_understands() {
 
 #[test]
 fn embedded_prompt_set_is_the_files_on_disk() {
-    let embedded = PromptSet::embedded().unwrap();
-    let on_disk = PromptSet::load(&root()).unwrap();
+    let embedded = PromptSet::embedded(scenarios::scene_words()).unwrap();
+    let on_disk = PromptSet::load(&root(), scenarios::scene_words()).unwrap();
     let embedded_files: BTreeMap<&str, &str> = embedded.files().collect();
     let disk_files: BTreeMap<&str, &str> = on_disk.files().collect();
     assert_eq!(

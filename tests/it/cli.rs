@@ -38,9 +38,12 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
     )
     .unwrap();
     fs_err::write(path.join("truncated.json"), r#"[{"question": "Is there"#).unwrap();
-    fs_err::copy(
-        path.join("pulley_group_extra.json"),
+    // A family no scenario's engine has: the name, the folder and the families all fail to
+    // tell the scenario.
+    fs_err::write(
         path.join("questions.json"),
+        r#"[{"question": "Is the fluid density of the red fluid greater than that of the blue fluid?", "answer": "no", "question_family": "density",
+             "answer_type": "open_ended", "qtype": "density", "video_id": "7", "question_id": "00001", "split": "test"}]"#,
     )
     .unwrap();
     fs_err::write(path.join("program.py"), "answer = 1\n").unwrap();

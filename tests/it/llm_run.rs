@@ -13,8 +13,9 @@ use std::time::Duration;
 use contphy_eval::dataset::{Question, load_question_file};
 use contphy_eval::llm::mock::{MOCK_MODEL, MockReply, MockRequest, MockServer, MockServerBuilder};
 use contphy_eval::program::builtin::{write_program, write_question_program};
-use contphy_eval::prompt::{PromptMode, render};
+use contphy_eval::prompt::PromptMode;
 use contphy_eval::scenarios;
+use contphy_eval::scenarios::render_prompt as render;
 use serde_json::Value;
 
 use crate::support::{root, stderr, stdout};
@@ -49,13 +50,9 @@ impl Mock {
 }
 
 fn demo_questions() -> Vec<Question> {
-    load_question_file(
-        &root().join(QUESTIONS),
-        None,
-        scenarios::families(),
-    )
-    .unwrap()
-    .questions
+    load_question_file(&root().join(QUESTIONS), None, scenarios::families())
+        .unwrap()
+        .questions
 }
 
 /// The first user message of every prompt the demo run sends, in both modes, mapped to a

@@ -7,9 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
-use contphy_eval::perception::detection::ObjectClass;
 use contphy_eval::perception::detector::{Detector, DetectorConfig, DetectorError};
 use contphy_eval::perception::frames::RgbFrame;
+use contphy_eval::perception::rope::PERCEPTION;
 use contphy_eval::perception::runtime::library_available;
 
 #[expect(clippy::print_stderr, reason = "a skipped test says why")]
@@ -45,7 +45,11 @@ fn the_tiny_model_runs_through_the_session_and_its_outputs_are_read_whole() {
     if !need_runtime() {
         return;
     }
-    let mut detector = Detector::load(DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1)).unwrap();
+    let mut detector = Detector::load(
+        DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1),
+        PERCEPTION.classes,
+    )
+    .unwrap();
     let image = ndarray::Array3::<f32>::ones((3, 270, 480));
     let raw = detector.run_raw(&image.view(), 0).unwrap();
     assert_eq!(raw.labels, vec![1, 3]);
@@ -76,13 +80,18 @@ fn detections_are_thresholded_scaled_to_the_frame_and_their_masks_pasted_there()
     if !need_runtime() {
         return;
     }
-    let mut detector = Detector::load(DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1)).unwrap();
+    let mut detector = Detector::load(
+        DetectorConfig::new(data("tiny-maskrcnn.onnx"), 1),
+        PERCEPTION.classes,
+    )
+    .unwrap();
     // A white 960×540 frame: the model sees 480×270, the cube scores 0.88 and the rope 0.3
     // (below the 0.5 threshold), and the cube's box doubles to [20, 40, 76, 96].
     let detections = detector.detect(&uniform_frame(960, 540, 255)).unwrap();
     assert_eq!(detections.len(), 1, "{detections:?}");
     let cube = &detections[0];
-    assert_eq!((cube.frame, cube.class), (7, ObjectClass::Cube));
+    assert_eq!(cube.frame, 7);
+    assert_eq!(detector.classes().name(cube.class), "cube");
     let expected_box = [20.0f32, 40.0, 76.0, 96.0];
     assert!(
         cube.bbox
@@ -115,7 +124,8 @@ fn a_corrupt_or_missing_model_is_one_clear_error() {
         return;
     }
     let corrupt = data("corrupt.onnx");
-    let error = Detector::load(DetectorConfig::new(corrupt.clone(), 1)).unwrap_err();
+    let error =
+        Detector::load(DetectorConfig::new(corrupt.clone(), 1), PERCEPTION.classes).unwrap_err();
     assert!(matches!(error, DetectorError::Model { .. }), "{error:?}");
     let message = error.to_string();
     assert!(
@@ -124,10 +134,33 @@ fn a_corrupt_or_missing_model_is_one_clear_error() {
     );
     assert!(!message.contains('\n'), "{message}");
     let missing = data("no-such-model.onnx");
-    let error = Detector::load(DetectorConfig::new(missing, 1)).unwrap_err();
+    let error = Detector::load(DetectorConfig::new(missing, 1), PERCEPTION.classes).unwrap_err();
     assert!(
         matches!(error, DetectorError::MissingModel { .. }),
         "{error:?}"
+    );
+    // A model without its class description, or one whose classes are another scenario's.
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("model.onnx");
+    fs_err::copy(data("tiny-maskrcnn.onnx"), &model).unwrap();
+    let error = Detector::load(DetectorConfig::new(model.clone(), 1), PERCEPTION.classes)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.starts_with("cannot read the model description"),
+        "{error}"
+    );
+    fs_err::write(
+        dir.path().join("model.json"),
+        r#"{"classes": {"1": "fluid", "2": "container"}}"#,
+    )
+    .unwrap();
+    let error = Detector::load(DetectorConfig::new(model, 1), PERCEPTION.classes)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("names none of the classes this scenario's objects fall into"),
+        "{error}"
     );
 }
 
@@ -332,10 +365,10 @@ fn the_real_model_matches_python_onnxruntime_on_a_real_frame() {
     let reference: Reference =
         serde_json::from_str(&fs_err::read_to_string(data("reference-outputs.json")).unwrap())
             .unwrap();
-    let mut detector = Detector::load(DetectorConfig::new(
-        root.join("models/maskrcnn-rope.onnx"),
-        1,
-    ))
+    let mut detector = Detector::load(
+        DetectorConfig::new(root.join("models/maskrcnn-rope.onnx"), 1),
+        PERCEPTION.classes,
+    )
     .unwrap();
     let raw = detector
         .run_raw(&model_input(&frame, 480, 270).view(), 59)
@@ -448,7 +481,7 @@ fn the_real_videos_mechanism_is_read_from_its_pixels() {
         detector: root.join("models/maskrcnn-rope.onnx"),
         colors: root.join("models/color-model.json"),
     };
-    let check = contphy_eval::scene_api::check_rope_mechanism(
+    let check = contphy_eval::scene_api::rope::check_rope_mechanism(
         &root.join("eval/demo/pulley_group/0"),
         &models,
     )

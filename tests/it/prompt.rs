@@ -5,7 +5,9 @@
 use contphy_eval::dataset::{
     Question, QuestionId, QuestionRecord, Scenario, VideoId, load_question_file,
 };
-use contphy_eval::prompt::{PromptError, PromptMode, PromptSet, render};
+use contphy_eval::prompt::{PromptError, PromptMode, PromptSet};
+use contphy_eval::scenarios;
+use contphy_eval::scenarios::render_prompt as render;
 
 use crate::support::{demo, root};
 
@@ -14,7 +16,7 @@ fn demo_questions() -> Vec<Question> {
     load_question_file(
         &demo().join("pulley_group/0.json"),
         None,
-        contphy_eval::scenarios::families(),
+        scenarios::families(),
     )
     .unwrap()
     .questions
@@ -101,7 +103,7 @@ fn choice_question_prompt_per_question() {
 
 #[test]
 fn every_demo_unit_renders_in_both_modes_with_its_family_examples() {
-    let set = PromptSet::embedded().unwrap();
+    let set = PromptSet::embedded(scenarios::scene_words()).unwrap();
     let mut rendered = 0;
     for question in demo_questions() {
         let family = question.family.0.as_str();
@@ -162,7 +164,7 @@ fn template_hash_covers_the_files_used_and_is_stable() {
     let question = demo_question("0/mass/1");
     let other_family = demo_question("0/shape/0");
     let first = render(&question, None, PromptMode::PerOption).unwrap();
-    let again = PromptSet::embedded()
+    let again = PromptSet::embedded(scenarios::scene_words())
         .unwrap()
         .render(&question, None, PromptMode::PerOption)
         .unwrap();
@@ -196,7 +198,7 @@ fn template_hash_covers_the_files_used_and_is_stable() {
             .replace("(flag)", "(entered)"),
     )
     .unwrap();
-    let edited = PromptSet::load(dir.path()).unwrap();
+    let edited = PromptSet::load(dir.path(), scenarios::scene_words()).unwrap();
     assert_eq!(
         edited
             .render(&question, None, PromptMode::PerOption)
@@ -210,7 +212,12 @@ fn template_hash_covers_the_files_used_and_is_stable() {
             .user
             .contains("entered = fluid_gd_scene.happen")
     );
-    assert_ne!(edited.hash(), PromptSet::embedded().unwrap().hash());
+    assert_ne!(
+        edited.hash(),
+        PromptSet::embedded(scenarios::scene_words())
+            .unwrap()
+            .hash()
+    );
 }
 
 #[test]
@@ -232,7 +239,7 @@ fn other_scenarios_render_with_their_own_examples() {
             "use `SoftScene(video, 'ball')`",
         ),
     ];
-    let set = PromptSet::embedded().unwrap();
+    let set = PromptSet::embedded(scenarios::scene_words()).unwrap();
     for (scenario, example, hint) in cases {
         let open = make_question(scenario, "Is it so?", "yes", "some_family", "open_ended");
         let prompt = set.render(&open, None, PromptMode::PerOption).unwrap();
@@ -368,7 +375,7 @@ fn template_errors_name_the_template_and_the_variable() {
     let mut messages = Vec::new();
     for (files, expected) in cases {
         let dir = override_dir(files);
-        let error = PromptSet::load(dir.path())
+        let error = PromptSet::load(dir.path(), scenarios::scene_words())
             .and_then(|set| set.render(&question, None, PromptMode::PerOption))
             .unwrap_err()
             .to_string();
@@ -391,7 +398,9 @@ fn template_errors_name_the_template_and_the_variable() {
         "{error:?}"
     );
     let empty = tempfile::tempdir().unwrap();
-    let error = PromptSet::load(empty.path()).unwrap_err().to_string();
+    let error = PromptSet::load(empty.path(), scenarios::scene_words())
+        .unwrap_err()
+        .to_string();
     assert!(
         error.contains("has neither a `prompts/` nor an `api_spec/` folder"),
         "{error}"
@@ -400,7 +409,7 @@ fn template_errors_name_the_template_and_the_variable() {
 
 fn render_with(files: &[(&str, &str)], question: &Question) -> PromptError {
     let dir = override_dir(files);
-    PromptSet::load(dir.path())
+    PromptSet::load(dir.path(), scenarios::scene_words())
         .unwrap()
         .render(question, None, PromptMode::PerOption)
         .unwrap_err()
@@ -417,7 +426,7 @@ fn an_override_directory_replaces_single_files() {
         ),
         ("README.md", "ignored"),
     ]);
-    let set = PromptSet::load(dir.path()).unwrap();
+    let set = PromptSet::load(dir.path(), scenarios::scene_words()).unwrap();
     let prompt = set.render(&question, None, PromptMode::PerOption).unwrap();
     assert_eq!(prompt.system, None);
     assert!(prompt.user.ends_with("Question for the program: Is the mass of the green cube greater than that of the purple cube?\n"));

@@ -25,6 +25,7 @@ pub const VOCABULARY: Vocabulary = Vocabulary {
                 ("large", "hollow"),
             ],
             implies_kind: Some("pulley"),
+            in_name: true,
         },
         Attribute {
             name: "dynamic",
@@ -38,6 +39,7 @@ pub const VOCABULARY: Vocabulary = Vocabulary {
                 ("moving", "dynamic"),
             ],
             implies_kind: None,
+            in_name: false,
         },
     ],
     unfindable: &[],

@@ -1,4 +1,4 @@
-//! `--perception maskrcnn` for rope scenes: the objects as the detector sees them.
+//! `--perception maskrcnn`: the objects of a video as the detector sees them.
 //!
 //! The Mask R-CNN runs on a few frames of the video's first two seconds (every
 //! [`FRAME_STEP`]-th frame up to [`LAST_FRAME`], the stretch in which the release's questions
@@ -7,19 +7,15 @@
 //! what `find` matches. Objects the detector misses are not findable, and a misread colour or
 //! class makes `find` return the wrong object or none, as in ContPRO.
 //!
-//! Under `--dynamics simulate` (ContPRO) the mechanism itself is read from pixels
-//! ([`Perceiver::mechanism`], `perceived_rope`): objects named from their tracks, rope paths from
-//! the rope masks and colours, positions lifted through the camera calibration; no other
-//! annotation is read. Under `--dynamics annotation` (the oracle dynamics, whose recorded results
-//! are keyed by the release's names) the first pass's tracks are bound to the annotated objects
-//! by box overlap ([`Perceiver::scene`]).
-//!
-//! For mass and tension questions, [`Perceiver::positions`] runs the detector on every frame
-//! (reusing the first pass's frames), gives each track the name of the first-pass track it shares
-//! detections with, and lifts its mask centroids onto the scene plane; mass inference matches
-//! those tracks. Input: a video folder, the model files, the camera calibration. Output: the
-//! perceived mechanism, or per annotated object its perceived words, or per named object its
-//! perceived positions, and the work done.
+//! Shared by every scenario with perception: [`Perceiver::scene`] binds the first pass's tracks
+//! to the annotated objects by box overlap (the oracle dynamics, whose recorded results are keyed
+//! by the release's names); [`Perceiver::full_pass`] runs the detector on every frame (reusing
+//! the first pass's frames) and gives each track the name of the first-pass track it shares
+//! detections with. A scenario that reads its scene from pixels (rope's mechanism,
+//! `scene_api::rope`) names the first-pass tracks itself ([`Perceiver::set_names`]) from what
+//! [`Perceiver::first_pass`] hands it. Input: a video folder, the model files, the scenario's
+//! detector classes and vocabulary. Output: per annotated object its perceived words, or the
+//! tracks, and the work done.
 //!
 //! The models are loaded once per process and shared by every scene in it (one ONNX Runtime
 //! session per sandbox worker, not one per video).
@@ -29,13 +25,12 @@ use std::path::Path;
 use std::sync::{Mutex, PoisonError};
 
 use super::error::ApiError;
-use super::perceived_rope::{PerceivedRope, lift, perceive_rope};
 use super::scene::PerceptionModels;
-use crate::dataset::{Camera, SegmentationRecords};
+use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
-use crate::perception::camera::CameraModel;
+use crate::perception::classes::{Class, ClassTable, ScenarioClasses};
 use crate::perception::color::{ColorModel, name_colors};
-use crate::perception::detection::{Detection, ObjectClass};
+use crate::perception::detection::Detection;
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
 use crate::perception::palette::palette_color;
@@ -50,16 +45,20 @@ const MIN_BINDING_IOU: f64 = 0.3;
 
 /// What perception says about one annotated object.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct PerceivedWords {
+pub struct PerceivedWords {
     /// Colour words (`light blue`); empty when the colour was not recognised.
     pub color: String,
-    /// The detector's class.
-    pub class: ObjectClass,
+    /// The detector's class name (`solid static pulley`).
+    pub class: &'static str,
+    /// The class's kind word (`pulley`).
+    pub kind: &'static str,
+    /// The class's attribute values (`shape` = `solid`).
+    pub attributes: &'static [(&'static str, &'static str)],
 }
 
 /// The objects perception found in one video.
 #[derive(Debug, Clone, Default)]
-pub(crate) struct PerceivedScene {
+pub struct PerceivedScene {
     /// Annotated object name → its perceived words (objects not listed were not seen).
     pub objects: Vec<(String, PerceivedWords)>,
     /// Tracks that matched no annotated object (false positives).
@@ -67,42 +66,48 @@ pub(crate) struct PerceivedScene {
 }
 
 /// Detections per frame, in frame order.
-type FrameDetections = Vec<(usize, Vec<Detection>)>;
-
-/// Per bound object, its world position (units, on the `z = 0` plane) in each frame (`None`:
-/// not seen in that frame).
-pub(crate) type PerceivedPositions = Vec<(String, Vec<Option<[f64; 3]>>)>;
+pub type FrameDetections = Vec<(usize, Vec<Detection>)>;
 
 fn unavailable(error: impl std::fmt::Display) -> ApiError {
     ApiError::Unavailable(format!("perception (maskrcnn): {error}"))
 }
 
-/// The loaded models, shared by every scene of the process; replaced when a scene asks for
-/// other files.
-static LOADED: Mutex<Option<(PerceptionModels, Detector, ColorModel)>> = Mutex::new(None);
+/// The loaded models, shared by every scene of the process, with the scenario classes they
+/// were loaded for (its class list identifies it); replaced when a scene asks for other files
+/// or another scenario.
+static LOADED: Mutex<Option<(PerceptionModels, usize, Detector, ColorModel)>> = Mutex::new(None);
 
 /// Runs `work` with the detector and colour model of `models`, loading them on first use.
 fn with_models<T>(
     models: &PerceptionModels,
+    classes: ScenarioClasses,
     work: impl FnOnce(&mut Detector, &ColorModel) -> Result<T, ApiError>,
 ) -> Result<T, ApiError> {
+    let scenario = classes.classes.as_ptr() as usize;
     let mut loaded = LOADED.lock().unwrap_or_else(PoisonError::into_inner);
-    if loaded.as_ref().is_none_or(|(files, _, _)| files != models) {
+    if loaded
+        .as_ref()
+        .is_none_or(|(files, key, _, _)| files != models || *key != scenario)
+    {
         let colors = ColorModel::read(&models.colors).map_err(unavailable)?;
-        let detector =
-            Detector::load(DetectorConfig::new(models.detector.clone(), 1)).map_err(unavailable)?;
-        *loaded = Some((models.clone(), detector, colors));
+        let detector = Detector::load(DetectorConfig::new(models.detector.clone(), 1), classes)
+            .map_err(unavailable)?;
+        *loaded = Some((models.clone(), scenario, detector, colors));
     }
     match loaded.as_mut() {
-        Some((_, detector, colors)) => work(detector, colors),
+        Some((_, _, detector, colors)) => work(detector, colors),
         None => Err(unavailable("the models could not be kept loaded")),
     }
 }
 
 /// One video as the detector sees it: its frames, read once per scene, the first pass's
 /// detections and tracks, and the name each of those tracks stands for.
-pub(crate) struct Perceiver {
+pub struct Perceiver {
     models: PerceptionModels,
+    classes: ScenarioClasses,
+    vocabulary: &'static Vocabulary,
+    /// The model's classes as the scenario reads them (known once the detector ran).
+    table: Option<ClassTable>,
     video_dir: std::path::PathBuf,
     source: FrameSource,
     info: VideoInfo,
@@ -117,13 +122,22 @@ pub(crate) struct Perceiver {
 }
 
 impl Perceiver {
-    /// Opens the video's frames; runs nothing yet.
-    pub(crate) fn open(video_dir: &Path, models: &PerceptionModels) -> Result<Self, ApiError> {
+    /// Opens the video's frames; runs nothing yet. `classes` and `vocabulary` are the
+    /// scenario's.
+    pub fn open(
+        video_dir: &Path,
+        models: &PerceptionModels,
+        classes: ScenarioClasses,
+        vocabulary: &'static Vocabulary,
+    ) -> Result<Self, ApiError> {
         let source = FrameSource::of_video(video_dir, Stream::Rgb)
             .map_err(|e| ApiError::Data(e.to_string()))?;
         let info = source.info().map_err(|e| ApiError::Data(e.to_string()))?;
         Ok(Perceiver {
             models: models.clone(),
+            classes,
+            vocabulary,
+            table: None,
             video_dir: video_dir.to_path_buf(),
             source,
             info,
@@ -135,12 +149,62 @@ impl Perceiver {
     }
 
     /// Frames decoded and frames run through the detector so far.
-    pub(crate) fn work(&self) -> (u64, u64) {
+    pub fn work(&self) -> (u64, u64) {
         self.work
     }
 
+    /// The model's classes as the scenario reads them, once the detector has run.
+    pub fn classes(&self) -> Option<&ClassTable> {
+        self.table.as_ref()
+    }
+
+    /// The words of `class` (colour aside), when the detector has run and knows it.
+    pub fn words(&self, class: Class, color: Option<u8>) -> Option<PerceivedWords> {
+        let words = self.table.as_ref()?.words(class)?;
+        Some(PerceivedWords {
+            color: color
+                .and_then(palette_color)
+                .map(|c| c.word.to_string())
+                .unwrap_or_default(),
+            class: words.name,
+            kind: words.kind,
+            attributes: words.attributes,
+        })
+    }
+
+    /// The video's frame size (width, height) and frame count.
+    pub fn frames(&self) -> (u32, u32, usize) {
+        (self.info.width, self.info.height, self.info.frame_count)
+    }
+
+    /// The first pass's tracks (empty until it ran).
+    pub fn first_tracks(&self) -> &[Track] {
+        &self.first
+    }
+
+    /// The first pass's detections, by frame.
+    pub fn first_detections(&self) -> &BTreeMap<usize, Vec<Detection>> {
+        &self.kept
+    }
+
+    /// Names the first pass's tracks (one entry per track; `None`: stands for no object), for
+    /// [`Perceiver::full_pass`].
+    pub fn set_names(&mut self, names: Vec<Option<String>>) {
+        self.names = names;
+    }
+
+    /// Frame `index`, decoded (counted as work).
+    pub fn read_frame(&mut self, index: usize) -> Result<Option<RgbFrame>, ApiError> {
+        let mut frames = self
+            .source
+            .read(&[index])
+            .map_err(|e| ApiError::Data(e.to_string()))?;
+        self.work.0 += frames.len() as u64;
+        Ok(frames.pop())
+    }
+
     /// Frames of the first pass: 0, 10, …, 60 (those the video has).
-    fn first_frames(&self) -> Vec<usize> {
+    pub fn first_frames(&self) -> Vec<usize> {
         (0..=LAST_FRAME.min(self.info.frame_count.saturating_sub(1)))
             .step_by(FRAME_STEP)
             .collect()
@@ -149,7 +213,7 @@ impl Perceiver {
     /// Runs the first pass once: the detector on frames 0, 10, …, 60, and the tracks. Returns
     /// the pass's first frame when this call ran it (the caller may want its pixels; the scene
     /// does not keep frames, since a worker keeps one scene per video it has seen).
-    fn first_pass(&mut self) -> Result<Option<RgbFrame>, ApiError> {
+    pub fn first_pass(&mut self) -> Result<Option<RgbFrame>, ApiError> {
         if !self.kept.is_empty() || self.info.frame_count == 0 {
             return Ok(None);
         }
@@ -163,94 +227,47 @@ impl Perceiver {
     /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose
     /// recorded results are keyed by the release's names: the first pass's tracks bound to the
     /// annotated objects by box overlap.
-    pub(crate) fn scene(&mut self) -> Result<PerceivedScene, ApiError> {
+    pub fn scene(&mut self) -> Result<PerceivedScene, ApiError> {
         self.first_pass()?;
         let records = SegmentationRecords::read(&self.video_dir.join("outputs.json"))?;
-        self.names = bind_to_annotation(&self.first, &self.first_frames(), &records);
+        self.names = match &self.table {
+            Some(table) => bind_to_annotation(
+                &self.first,
+                &self.first_frames(),
+                &records,
+                table,
+                self.vocabulary,
+            ),
+            None => Vec::new(),
+        };
         let mut scene = PerceivedScene::default();
         for (track, name) in self.first.iter().zip(&self.names) {
-            match name {
-                Some(name) => scene.objects.push((
-                    name.clone(),
-                    PerceivedWords {
-                        color: track
-                            .color
-                            .and_then(palette_color)
-                            .map(|c| c.name.to_lowercase())
-                            .unwrap_or_default(),
-                        class: track.class,
-                    },
-                )),
-                None => scene.unbound_tracks += 1,
+            match (name, self.words(track.class, track.color)) {
+                (Some(name), Some(words)) => scene.objects.push((name.clone(), words)),
+                _ => scene.unbound_tracks += 1,
             }
         }
         scene.objects.sort_by(|a, b| a.0.cmp(&b.0));
         Ok(scene)
     }
 
-    /// The mechanism as seen (`--dynamics simulate`): objects named from their tracks, rope
-    /// paths read from the rope masks, positions lifted through the camera (`perceived_rope`).
-    pub(crate) fn mechanism(&mut self, camera: &Camera) -> Result<PerceivedRope, ApiError> {
-        // The ropes' colours are read from the first pass's first frame; it is decoded again
-        // only if the pass ran earlier for another purpose.
-        let frame = match (self.first_pass()?, self.first_frames().first()) {
-            (Some(frame), _) => Some(frame),
-            (None, Some(&first)) => {
-                let mut frames = self
-                    .source
-                    .read(&[first])
-                    .map_err(|e| ApiError::Data(e.to_string()))?;
-                self.work.0 += frames.len() as u64;
-                frames.pop()
-            }
-            (None, None) => None,
-        };
-        let perceived = perceive_rope(
-            &self.first,
-            &self.kept,
-            (self.info.width, self.info.height),
-            frame.as_ref(),
-            camera,
-            self.info.frame_count,
-        );
-        self.names.clone_from(&perceived.names);
-        Ok(perceived)
-    }
-
-    /// The world positions of the named objects in every frame of the video: the detector runs
-    /// on all frames, each track takes the name of the first-pass track it shares most
-    /// detections with (the first pass's detections are reused, so they coincide), and its mask
-    /// centroids are lifted onto the scene plane (`z = 0`, where the release lays out every
-    /// rope scene) along the camera's viewing rays.
-    pub(crate) fn positions(&mut self, camera: &Camera) -> Result<PerceivedPositions, ApiError> {
+    /// The tracks of every frame of the video, each with the name of the first-pass track it
+    /// shares most detections with (the first pass's detections are reused, so they coincide);
+    /// tracks that stand for no named object are left out.
+    pub fn full_pass(&mut self) -> Result<Vec<(String, Track)>, ApiError> {
         self.first_pass()?;
         let wanted: Vec<usize> = (0..self.info.frame_count).collect();
         let (per_frame, _) = self.detect(&wanted, None)?;
         let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
-        let model = CameraModel::from_unity_euler(
-            camera.position,
-            camera.rotation_deg,
-            camera.vertical_fov_deg,
-            self.info.width,
-            self.info.height,
-        );
-        let mut positions = Vec::new();
-        for (track, first) in tracks.iter().zip(assign_to_first(&tracks, &self.first)) {
-            let Some(name) = first.and_then(|f| self.names.get(f).cloned().flatten()) else {
-                continue;
-            };
-            let last = track.last_frame().unwrap_or(0);
-            let mut per_frame = vec![None; last + 1];
-            for point in &track.observations {
-                if let Some(world) = lift(&model, camera, point.centroid[0], point.centroid[1])
-                    && let Some(slot) = per_frame.get_mut(point.frame)
-                {
-                    *slot = Some([world[0], world[1], 0.0]);
-                }
-            }
-            positions.push((name, per_frame));
-        }
-        Ok(positions)
+        let firsts = assign_to_first(&tracks, &self.first);
+        Ok(tracks
+            .into_iter()
+            .zip(firsts)
+            .filter_map(|(track, first)| {
+                let name = first.and_then(|f| self.names.get(f).cloned().flatten())?;
+                Some((name, track))
+            })
+            .collect())
     }
 
     /// Detections with colours for `wanted`, in order; frames [`Perceiver::scene`] ran are
@@ -274,7 +291,9 @@ impl Perceiver {
                 .read(batch)
                 .map_err(|e| ApiError::Data(e.to_string()))?;
             self.work.0 += frames.len() as u64;
-            with_models(&self.models, |detector, colors| {
+            let mut table = None;
+            with_models(&self.models, self.classes, |detector, colors| {
+                table = Some(detector.classes().clone());
                 for frame in &frames {
                     let mut detections = detector.detect(frame).map_err(unavailable)?;
                     name_colors(frame, &mut detections, colors);
@@ -283,6 +302,9 @@ impl Perceiver {
                 Ok(())
             })?;
             self.work.1 += frames.len() as u64;
+            if self.table.is_none() {
+                self.table = table;
+            }
             if let Some(frame) = frames.into_iter().find(|f| Some(f.index) == keep) {
                 kept_frame = Some(frame);
             }
@@ -299,20 +321,23 @@ impl Perceiver {
 }
 
 /// The annotated object each track stands for, by box overlap with the annotated boxes of the
-/// track's first frame (kind against kind; one track per object).
+/// track's first frame (kind against kind, or two kinds of one group word such as rope's
+/// loads; one track per object).
 fn bind_to_annotation(
     tracks: &[Track],
     wanted: &[usize],
     records: &SegmentationRecords,
+    table: &ClassTable,
+    vocabulary: &Vocabulary,
 ) -> Vec<Option<String>> {
-    let candidates: Vec<(String, ObjectClass, usize, [f64; 4])> = records
+    let candidates: Vec<(String, Class, usize, [f64; 4])> = records
         .boxes
         .iter()
         .filter(|(frame, _)| wanted.binary_search(frame).is_ok())
         .flat_map(|(frame, boxes)| {
             boxes.iter().filter_map(|(id, bbox)| {
                 let name = records.names.get(id)?;
-                let class = ObjectClass::from_object_name(name)?;
+                let class = table.of_object(name)?;
                 Some((name.clone(), class, *frame, *bbox))
             })
         })
@@ -333,8 +358,11 @@ fn bind_to_annotation(
         let (_, class, _, annotated) = candidates
             .iter()
             .find(|c| c.0 == names[n] && c.2 == frame)?;
-        if class.kind() != tracks[t].class.kind() && !(is_load(*class) && is_load(tracks[t].class))
-        {
+        let grouped = vocabulary.kind_groups.iter().any(|group| {
+            group.kinds.contains(&table.kind(*class))
+                && group.kinds.contains(&table.kind(tracks[t].class))
+        });
+        if !class.same_kind(tracks[t].class) && !grouped {
             return None;
         }
         let overlap = box_iou(seen, *annotated);
@@ -362,10 +390,6 @@ fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
         let count = shared(&tracks[t], &first[f]);
         (count > 0).then(|| 1.0 / count as f64)
     })
-}
-
-fn is_load(class: ObjectClass) -> bool {
-    matches!(class, ObjectClass::Cube | ObjectClass::Sphere)
 }
 
 fn box_iou(a: [f64; 4], b: [f64; 4]) -> f64 {

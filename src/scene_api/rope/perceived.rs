@@ -19,15 +19,19 @@
 
 use indexmap::IndexMap;
 
-use super::rope_topology::{Node, NodeKind, RopePath, distance, read_ropes};
+use super::topology::{Node, NodeKind, RopePath, distance, read_ropes};
 use crate::dataset::rope::{RopeAnnotation, world};
 use crate::dataset::{Camera, FourDData, RigidBodyTrack, SoftBodyTrack};
 use crate::perception::camera::CameraModel;
+use crate::perception::classes::ClassTable;
 use crate::perception::color::{srgb_to_linear, wall_color};
-use crate::perception::detection::{Detection, InstanceMask, ObjectClass};
+use crate::perception::detection::{Detection, InstanceMask};
 use crate::perception::frames::RgbFrame;
 use crate::perception::palette::palette_color;
-use crate::perception::tracking::Track;
+use crate::perception::rope::PERCEPTION;
+use crate::perception::tracking::{Track, TrackPoint};
+use crate::scene_api::ApiError;
+use crate::scene_api::perceiver::Perceiver;
 
 /// The release's tracked-particle spacing along a rope, units.
 const PARTICLE_SPACING: f64 = 0.5;
@@ -66,28 +70,28 @@ pub(crate) fn lift(model: &CameraModel, camera: &Camera, x: f64, y: f64) -> Opti
     (distance > 0.0 && world.iter().all(|v| v.is_finite())).then_some(world)
 }
 
-fn node_kind(class: ObjectClass) -> Option<NodeKind> {
-    match class {
-        ObjectClass::Cube | ObjectClass::Sphere => Some(NodeKind::Load),
-        ObjectClass::FixedPoint => Some(NodeKind::Anchor),
-        ObjectClass::SolidStaticPulley => Some(NodeKind::StaticPulley { solid: true }),
-        ObjectClass::HollowStaticPulley => Some(NodeKind::StaticPulley { solid: false }),
-        ObjectClass::SolidDynamicPulley => Some(NodeKind::MovablePulley { solid: true }),
-        ObjectClass::HollowDynamicPulley => Some(NodeKind::MovablePulley { solid: false }),
-        ObjectClass::Rope => None,
+/// What a track of a rope class is in the mechanism: a node of this kind, or (`None`) a rope.
+fn node_kind(class_name: &str) -> Option<NodeKind> {
+    match class_name {
+        "cube" | "sphere" => Some(NodeKind::Load),
+        "fixed point" => Some(NodeKind::Anchor),
+        "solid static pulley" => Some(NodeKind::StaticPulley { solid: true }),
+        "hollow static pulley" => Some(NodeKind::StaticPulley { solid: false }),
+        "solid dynamic pulley" => Some(NodeKind::MovablePulley { solid: true }),
+        "hollow dynamic pulley" => Some(NodeKind::MovablePulley { solid: false }),
+        _ => None,
     }
 }
 
 /// The release-style name of a track: colour words, then the class's words.
-fn base_name(track: &Track) -> String {
+fn base_name(track: &Track, classes: &ClassTable) -> String {
     let color = track
         .color
         .and_then(palette_color)
         .map_or("Unknown", |c| c.name);
     // The class's words (`hollow static pulley`), capitalised as the release writes them.
-    let words: Vec<String> = track
-        .class
-        .name()
+    let words: Vec<String> = classes
+        .name(track.class)
         .split(' ')
         .map(|word| {
             let mut letters = word.chars();
@@ -103,22 +107,113 @@ fn base_name(track: &Track) -> String {
 fn detection_of<'a>(
     track: &'a Track,
     detections: &'a std::collections::BTreeMap<usize, Vec<Detection>>,
-) -> Option<(&'a crate::perception::tracking::TrackPoint, &'a Detection)> {
+) -> Option<(&'a TrackPoint, &'a Detection)> {
     let first = track.observations.first()?;
     let detection = detections.get(&first.frame)?.get(first.detection)?;
     Some((first, detection))
 }
 
-/// Reads the mechanism of one video. `detections` holds the first pass's detections by frame
-/// (the tracks' observations index into them); `size` is the frames' width and height.
+/// What the first pass over a video saw, as [`perceive_rope`] reads it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FirstPass<'a> {
+    /// The model's classes.
+    pub(crate) classes: &'a ClassTable,
+    /// The first pass's tracks.
+    pub(crate) tracks: &'a [Track],
+    /// Its detections by frame (the tracks' observations index into them).
+    pub(crate) detections: &'a std::collections::BTreeMap<usize, Vec<Detection>>,
+    /// The frames' width and height.
+    pub(crate) size: (u32, u32),
+    /// The video's frame count.
+    pub(crate) frame_count: usize,
+}
+
+/// The mechanism as seen (`--dynamics simulate`): objects named from their tracks, rope paths
+/// read from the rope masks, positions lifted through the camera. The first-pass tracks take
+/// the names of the objects they stand for.
+pub(crate) fn perceive_mechanism(
+    perceiver: &mut Perceiver,
+    camera: &Camera,
+) -> Result<PerceivedRope, ApiError> {
+    // The ropes' colours are read from the first pass's first frame; it is decoded again only
+    // if the pass ran earlier for another purpose.
+    let frame = match (perceiver.first_pass()?, perceiver.first_frames().first()) {
+        (Some(frame), _) => Some(frame),
+        (None, Some(&first)) => perceiver.read_frame(first)?,
+        (None, None) => None,
+    };
+    // A video without frames ran no detector: no classes were read, and there are no tracks.
+    let classes = perceiver
+        .classes()
+        .cloned()
+        .unwrap_or_else(|| ClassTable::of_scenario(PERCEPTION.classes));
+    let (width, height, frame_count) = perceiver.frames();
+    let perceived = perceive_rope(
+        &FirstPass {
+            classes: &classes,
+            tracks: perceiver.first_tracks(),
+            detections: perceiver.first_detections(),
+            size: (width, height),
+            frame_count,
+        },
+        frame.as_ref(),
+        camera,
+    );
+    perceiver.set_names(perceived.names.clone());
+    Ok(perceived)
+}
+
+/// Per named object, its world position (units, on the `z = 0` plane) in each frame (`None`:
+/// not seen in that frame).
+pub(crate) type PerceivedPositions = Vec<(String, Vec<Option<[f64; 3]>>)>;
+
+/// The world positions of the named objects in every frame of the video: the detector's
+/// tracks over all frames ([`Perceiver::full_pass`]), their mask centroids lifted onto the
+/// scene plane (`z = 0`, where the release lays out every rope scene) along the camera's
+/// viewing rays.
+pub(crate) fn perceived_positions(
+    perceiver: &mut Perceiver,
+    camera: &Camera,
+) -> Result<PerceivedPositions, ApiError> {
+    let named = perceiver.full_pass()?;
+    let (width, height, _) = perceiver.frames();
+    let model = CameraModel::from_unity_euler(
+        camera.position,
+        camera.rotation_deg,
+        camera.vertical_fov_deg,
+        width,
+        height,
+    );
+    let mut positions = Vec::new();
+    for (name, track) in named {
+        let last = track.last_frame().unwrap_or(0);
+        let mut per_frame = vec![None; last + 1];
+        for point in &track.observations {
+            if let Some(world) = lift(&model, camera, point.centroid[0], point.centroid[1])
+                && let Some(slot) = per_frame.get_mut(point.frame)
+            {
+                *slot = Some([world[0], world[1], 0.0]);
+            }
+        }
+        positions.push((name, per_frame));
+    }
+    Ok(positions)
+}
+
+/// Reads the mechanism of one video from its first pass; `frame` is the pass's first frame
+/// (the ropes' colours are read from it).
 pub(crate) fn perceive_rope(
-    tracks: &[Track],
-    detections: &std::collections::BTreeMap<usize, Vec<Detection>>,
-    size: (u32, u32),
+    pass: &FirstPass<'_>,
     frame: Option<&RgbFrame>,
     camera: &Camera,
-    frame_count: usize,
 ) -> PerceivedRope {
+    let FirstPass {
+        classes,
+        tracks,
+        detections,
+        size,
+        frame_count,
+    } = *pass;
     let model = CameraModel::from_unity_euler(
         camera.position,
         camera.rotation_deg,
@@ -129,8 +224,8 @@ pub(crate) fn perceive_rope(
     // Names: unique, release-style.
     let mut names: Vec<Option<String>> = Vec::with_capacity(tracks.len());
     for (index, track) in tracks.iter().enumerate() {
-        let base = base_name(track);
-        let pulley = track.class.kind() == "pulley";
+        let base = base_name(track, classes);
+        let pulley = classes.kind(track.class) == "pulley";
         let taken = |name: &str| names.iter().flatten().any(|n| n == name);
         let name = if pulley {
             format!("{base} (0 {index})")
@@ -157,7 +252,7 @@ pub(crate) fn perceive_rope(
         let Some((point, detection)) = detection_of(track, detections) else {
             continue;
         };
-        match node_kind(track.class) {
+        match node_kind(classes.name(track.class)) {
             Some(kind) => {
                 if let Some(centre) = lift(&model, camera, point.centroid[0], point.centroid[1])
                     && !nodes
@@ -201,7 +296,7 @@ pub(crate) fn perceive_rope(
     let mut occupied = vec![false; frame.map_or(0, |f| f.width as usize * f.height as usize)];
     if let Some(frame) = frame {
         for detection in detections.get(&frame.index).into_iter().flatten() {
-            if detection.class != ObjectClass::Rope {
+            if classes.name(detection.class) != "rope" {
                 for (x, y) in detection.mask.pixels() {
                     if let Some(slot) =
                         occupied.get_mut(y as usize * frame.width as usize + x as usize)
@@ -492,7 +587,7 @@ fn assemble(
     for (node, &track) in node_track.iter().enumerate() {
         let name = name_of(track);
         if nodes[node].kind == NodeKind::Load {
-            let multiplier = super::rope_sim::load_multiplier(&annotation, &name);
+            let multiplier = super::simulation::load_multiplier(&annotation, &name);
             annotation
                 .output_mass_kg
                 .insert(name.clone(), world::BASELINE_MASS_KG * multiplier);
@@ -600,19 +695,21 @@ mod tests {
     use crate::dataset::engine::rope::RopeScene;
     use crate::perception::detection::InstanceMask;
     use crate::physics::rope::Turn;
-    use crate::scene_api::rope_sim::tests::sample;
-    use crate::scene_api::rope_sim::{Run, rope_paths, simulate_rope};
+    use crate::scene_api::rope::simulation::tests::sample;
+    use crate::scene_api::rope::simulation::{Run, rope_paths, simulate_rope};
 
     fn kind_of(name: &str) -> NodeKind {
-        ObjectClass::from_object_name(name)
-            .and_then(node_kind)
+        let table = ClassTable::of_scenario(PERCEPTION.classes);
+        table
+            .of_object(name)
+            .and_then(|class| node_kind(table.name(class)))
             .unwrap()
     }
 
     fn rope_detection() -> Detection {
         Detection {
             frame: 0,
-            class: ObjectClass::Rope,
+            class: crate::perception::rope::test_class("rope"),
             score: 1.0,
             bbox: [0.0; 4],
             mask: InstanceMask::empty(),

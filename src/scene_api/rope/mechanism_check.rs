@@ -1,4 +1,4 @@
-//! How well the rope mechanism read from pixels (`perceived_rope`) matches the annotated one, for
+//! How well the rope mechanism read from pixels (`perceived`) matches the annotated one, for
 //! `bench perception`: elements found where they are, and ropes read with the right elements in
 //! the right order and the right turns.
 //!
@@ -11,15 +11,17 @@
 use std::path::Path;
 
 use serde::Serialize;
+use serde_json::json;
 
-use super::error::ApiError;
-use super::perceived::Perceiver;
-use super::rope_sim::{RopeLayoutPath, rope_paths};
-use super::scene::PerceptionModels;
-use crate::dataset::FourDData;
-use crate::dataset::rope::RopeAnnotation;
+use super::perceived::perceive_mechanism;
+use super::simulation::{RopeLayoutPath, RopeSimulationError, rope_paths};
+use crate::dataset::rope::{RopeAnnotation, VOCABULARY};
+use crate::dataset::{FourDData, VideoFolder};
 use crate::perception::assignment::assign;
-use crate::perception::detection::ObjectClass;
+use crate::perception::classes::{Class, ClassTable};
+use crate::perception::rope::PERCEPTION;
+use crate::scene_api::perceiver::Perceiver;
+use crate::scene_api::{ApiError, PerceptionModels};
 
 /// Farthest a perceived element may be from the annotated one it stands for, units (a pulley's
 /// radius).
@@ -44,6 +46,41 @@ pub struct MechanismCheck {
     pub extra_ropes: usize,
 }
 
+/// The mechanism read from pixels against the annotated one, per video and summed, as
+/// `bench perception` reports it (`mechanism`); the first-pass frames are detected again for it.
+/// The scenario table lists it as rope's scene reading check.
+pub fn mechanism_report(
+    videos: &[VideoFolder],
+    models: &PerceptionModels,
+) -> Result<serde_json::Value, ApiError> {
+    let mut total = MechanismCheck::default();
+    let mut per_video = Vec::new();
+    let mut error_sum = 0.0;
+    let mut all_right = 0;
+    for video in videos {
+        let check = check_rope_mechanism(&video.dir, models)
+            .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
+        total.elements += check.elements;
+        total.elements_found += check.elements_found;
+        total.ropes += check.ropes;
+        total.ropes_read += check.ropes_read;
+        total.ropes_read_with_turns += check.ropes_read_with_turns;
+        total.extra_ropes += check.extra_ropes;
+        error_sum += check.mean_position_error * check.elements_found as f64;
+        if check.ropes_read_with_turns == check.ropes && check.extra_ropes == 0 {
+            all_right += 1;
+        }
+        per_video.push(json!({"video": video.id.0, "check": check}));
+    }
+    total.mean_position_error = error_sum / total.elements_found.max(1) as f64;
+    Ok(json!({
+        "match_radius_units": MATCH_RADIUS,
+        "total": total,
+        "videos_read_entirely": all_right,
+        "per_video": per_video,
+    }))
+}
+
 /// Reads the mechanism of the video in `video_dir` from its pixels and compares it with the
 /// annotated one.
 pub fn check_rope_mechanism(
@@ -63,9 +100,10 @@ pub fn check_rope_mechanism(
             video_dir.display()
         ))
     })?;
-    let mut perceiver = Perceiver::open(video_dir, models)?;
-    let perceived = perceiver.mechanism(&camera)?;
-    let unavailable = |error: super::rope_sim::RopeSimulationError| {
+    let mut perceiver = Perceiver::open(video_dir, models, PERCEPTION.classes, &VOCABULARY)?;
+    let perceived = perceive_mechanism(&mut perceiver, &camera)?;
+    let classes = ClassTable::of_scenario(PERCEPTION.classes);
+    let unavailable = |error: RopeSimulationError| {
         ApiError::Unavailable(format!("{}: {error}", video_dir.display()))
     };
     let truth_paths = rope_paths(&annotation, four_d.as_ref()).map_err(unavailable)?;
@@ -82,16 +120,15 @@ pub fn check_rope_mechanism(
     };
     let elements =
         |paths: &[RopeLayoutPath], annotation: &RopeAnnotation, four_d: Option<&FourDData>| {
-            let mut list: Vec<(String, ObjectClass, [f64; 2])> = Vec::new();
+            let mut list: Vec<(String, Class, [f64; 2])> = Vec::new();
             for (_, names, _) in paths {
                 for name in names {
                     if list.iter().any(|(n, _, _)| n == name) {
                         continue;
                     }
-                    if let (Some(class), Some(at)) = (
-                        ObjectClass::from_object_name(name),
-                        place(annotation, four_d, name),
-                    ) {
+                    if let (Some(class), Some(at)) =
+                        (classes.of_object(name), place(annotation, four_d, name))
+                    {
                         list.push((name.clone(), class, at));
                     }
                 }

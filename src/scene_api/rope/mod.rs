@@ -15,22 +15,34 @@ use indexmap::IndexMap;
 use std::collections::BTreeMap;
 use std::sync::{Mutex, OnceLock, PoisonError};
 
-use super::error::{ApiError, misuse};
-use super::object::{ObjectId, SceneObjectInfo};
-use super::perceived::{PerceivedScene, Perceiver};
-use super::rope_sim::{
+mod inference_bench;
+mod mechanism_check;
+mod perceived;
+pub mod simulation;
+mod topology;
+
+pub use inference_bench::inference_report;
+pub use mechanism_check::{MATCH_RADIUS, MechanismCheck, check_rope_mechanism, mechanism_report};
+
+use self::perceived::{perceive_mechanism, perceived_positions};
+use self::simulation::{
     RopeMassInference, RopeOutcome, Run, infer_rope_masses, load_multiplier, simulate_rope,
 };
-use super::scene::{
+use crate::dataset::engine::rope::RopeScene;
+use crate::dataset::rope::VOCABULARY;
+use crate::dataset::rope::{
+    RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, RopeObjectName,
+    parse_rope_object_name, world,
+};
+use crate::dataset::{Camera, FourDData};
+use crate::perception::rope::PERCEPTION;
+use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
+use crate::scene_api::perceiver::{PerceivedScene, Perceiver};
+use crate::scene_api::{ApiError, ObjectId, SceneObjectInfo, misuse};
+use crate::scene_api::{
     DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
     VideoSpec,
 };
-use crate::dataset::engine::rope::RopeScene;
-use crate::dataset::rope::{
-    RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind, parse_rope_object_name, world,
-};
-use crate::dataset::{Camera, FourDData};
-use crate::physics::rope::identify::{BodyVerdict, PairVerdict};
 
 /// The motion and rotation results of one dynamic scene (name → −1, 0, +1).
 type Outcomes = (IndexMap<String, i8>, IndexMap<String, i8>);
@@ -68,29 +80,44 @@ fn filled(track: &[Option<[f64; 3]>]) -> Vec<[f64; 3]> {
     out
 }
 
-/// The scene object at `index` with these words (no shape or grid: the caller adds them).
+/// The scene object at `index` named `name`, with the words of `parsed` (its parsed name; a
+/// name outside the grammar keeps the engine's colour and kind, `fallback`).
 fn object_info(
     index: usize,
     name: &str,
-    color: &str,
-    kind: RopeObjectKind,
-    dynamics: &str,
+    parsed: Option<&RopeObjectName>,
+    fallback: (&str, RopeObjectKind, &str),
 ) -> SceneObjectInfo {
-    SceneObjectInfo {
-        id: ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
-        name: name.to_string(),
-        color: color.to_string(),
-        kind: kind.word().to_string(),
-        shape: None,
-        dynamics: dynamics.to_string(),
-        grid: None,
-        visible: true,
+    let (color, kind, dynamics) = fallback;
+    let mut attributes = vec![("dynamic", dynamics.to_string())];
+    if let Some(parsed) = parsed {
+        if let Some(shape) = &parsed.pulley_shape {
+            attributes.push(("shape", shape.clone()));
+        }
+        if let Some((layer, column)) = parsed.grid {
+            attributes.push(("grid", format!("{layer} {column}")));
+        }
     }
+    SceneObjectInfo::new(
+        ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+        name,
+        color,
+        kind.word(),
+        &attributes,
+        &VOCABULARY,
+    )
 }
 
 /// Standard gravity, m/s².
 const GRAVITY_M_PER_S2: f64 = 9.81;
 
+/// Loads the backend of a rope video (the scenario table's scene backend for rope).
+pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
+    Ok(Box::new(RopeBackend::load(spec)?))
+}
+
+/// One rope video's answers: objects from the annotation (or from pixels), masses, tensions and
+/// dynamic outcomes from the annotations or from simulation.
 pub(crate) struct RopeBackend {
     annotation: RopeAnnotation,
     /// The question engine's view of the video: object order, nominal masses, related loads and
@@ -122,12 +149,18 @@ pub(crate) struct RopeBackend {
 }
 
 impl RopeBackend {
+    /// The backend of one rope video, as the scenario table's [`load`] builds it.
     pub(crate) fn load(spec: &VideoSpec) -> Result<RopeBackend, ApiError> {
         let video_dir = spec.video_dir.as_path();
         let annotation = RopeAnnotation::load(&video_dir.join("outputs.json"))?;
         let dynamics = spec.dynamics;
         let perceiver = match spec.perception {
-            PerceptionBackend::MaskRcnn => Some(Perceiver::open(video_dir, &spec.models)?),
+            PerceptionBackend::MaskRcnn => Some(Perceiver::open(
+                video_dir,
+                spec.perception_models()?,
+                PERCEPTION.classes,
+                &VOCABULARY,
+            )?),
             PerceptionBackend::Annotation => None,
         };
         let perceiver = match perceiver {
@@ -164,7 +197,7 @@ impl RopeBackend {
                     .to_string(),
             )
         })?;
-        let perceived = perceiver.mechanism(&camera)?;
+        let perceived = perceive_mechanism(&mut perceiver, &camera)?;
         let mut backend = RopeBackend::new(perceived.annotation, &spec.video_id)?;
         backend.add_unattached(&perceived.unattached);
         backend.dynamics = DynamicsBackend::Simulate;
@@ -183,17 +216,12 @@ impl RopeBackend {
             .enumerate()
             .map(|(index, object)| {
                 let parsed = parse_rope_object_name(&object.annotation_name);
-                SceneObjectInfo {
-                    shape: parsed.as_ref().and_then(|p| p.pulley_shape.clone()),
-                    grid: parsed.and_then(|p| p.grid),
-                    ..object_info(
-                        index,
-                        &object.annotation_name,
-                        &object.color,
-                        object.kind,
-                        &object.dynamics,
-                    )
-                }
+                object_info(
+                    index,
+                    &object.annotation_name,
+                    parsed.as_ref(),
+                    (&object.color, object.kind, &object.dynamics),
+                )
             })
             .collect();
         let rope_group = objects
@@ -249,17 +277,12 @@ impl RopeBackend {
             let Some(parsed) = parse_rope_object_name(name) else {
                 continue;
             };
-            self.objects.push(SceneObjectInfo {
-                shape: parsed.pulley_shape.clone(),
-                grid: parsed.grid,
-                ..object_info(
-                    self.objects.len(),
-                    name,
-                    &parsed.color,
-                    parsed.kind,
-                    &parsed.dynamics,
-                )
-            });
+            self.objects.push(object_info(
+                self.objects.len(),
+                name,
+                Some(&parsed),
+                (&parsed.color, parsed.kind, &parsed.dynamics),
+            ));
             self.rope_group.push(None);
             self.tension_n.push(None);
         }
@@ -275,11 +298,20 @@ impl RopeBackend {
                 .find(|(name, _)| *name == object.name)
             {
                 Some((_, words)) => {
+                    let attribute = |name: &str| {
+                        words
+                            .attributes
+                            .iter()
+                            .find(|(attribute, _)| *attribute == name)
+                            .map(|(_, value)| (*value).to_string())
+                    };
                     object.color.clone_from(&words.color);
-                    object.kind = words.class.kind().to_string();
-                    object.shape = words.class.shape().map(str::to_string);
-                    if object.kind == "pulley" {
-                        object.dynamics = words.class.dynamics().to_string();
+                    object.kind = words.kind;
+                    object.set_attribute("shape", attribute("shape"));
+                    // Loads, ropes and fixed points keep the annotation's dynamics; only a
+                    // pulley's class says whether it is static or movable.
+                    if object.kind == RopeObjectKind::Pulley.word() {
+                        object.set_attribute("dynamic", attribute("dynamic"));
                     }
                     object.visible = true;
                 }
@@ -480,10 +512,10 @@ impl RopeBackend {
                     .to_string(),
             )
         })?;
-        let perceived = perceiver
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .positions(camera)?;
+        let perceived = perceived_positions(
+            &mut perceiver.lock().unwrap_or_else(PoisonError::into_inner),
+            camera,
+        )?;
         let mut tracked = four_d.clone();
         for (name, body) in &mut tracked.rigid_bodies {
             let moving = parse_rope_object_name(name).is_some_and(|p| {
@@ -822,6 +854,23 @@ mod tests {
     //! pulleys clockwise and the pink pulley anti-clockwise (CounterFactualAnnotations 2.0).
     use super::*;
 
+    /// A rope scene of `spec` with rope's parts (the scenario table's rope row).
+    fn open_rope_scene(spec: VideoSpec) -> Scene {
+        Scene::open(
+            spec,
+            crate::scene_api::SceneParts {
+                vocabulary: &VOCABULARY,
+                all_vocabularies: &[
+                    &VOCABULARY,
+                    &crate::dataset::fluid::VOCABULARY,
+                    &crate::dataset::cloth::VOCABULARY,
+                    &crate::dataset::ball::VOCABULARY,
+                ],
+                backend: Some(load),
+            },
+        )
+    }
+
     #[test]
     fn perceived_tracks_are_filled_linearly_and_end_at_the_last_sighting() {
         let p = |y: f64| Some([0.0, y, 0.0]);
@@ -844,7 +893,7 @@ mod tests {
             id: VideoId("0".into()),
             dir,
         };
-        Scene::open(VideoSpec::new(
+        open_rope_scene(VideoSpec::new(
             &video,
             PerceptionBackend::Annotation,
             dynamics,
@@ -1041,7 +1090,7 @@ mod tests {
             id: VideoId("0".into()),
             dir: dir.path().to_path_buf(),
         };
-        let scene = Scene::open(VideoSpec::new(
+        let scene = open_rope_scene(VideoSpec::new(
             &video,
             PerceptionBackend::Annotation,
             DynamicsBackend::Simulate,
@@ -1223,7 +1272,7 @@ mod tests {
             id: VideoId("x".into()),
             dir: dir.path().to_path_buf(),
         };
-        let scene = Scene::open(VideoSpec::new(
+        let scene = open_rope_scene(VideoSpec::new(
             &video,
             PerceptionBackend::Annotation,
             DynamicsBackend::Annotation,
