@@ -1,5 +1,10 @@
-//! Records the git revision of the build (for run manifests), when built from a git checkout.
+//! Build steps: the git revision of the build (for run manifests), when built from a git
+//! checkout; and the list of prompt files compiled into the binary (`prompts/**/*.jinja`,
+//! `api_spec/scene_api.pyi`, `api_spec/VERSION`, `api_spec/examples/**/*.py`), so a new
+//! template or example is embedded without editing code.
 
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn main() {
@@ -15,5 +20,63 @@ fn main() {
         .filter(|text| !text.is_empty());
     if let Some(revision) = revision {
         println!("cargo:rustc-env=CONTPHY_GIT_REVISION={revision}");
+    }
+    embed_prompt_files();
+}
+
+/// Writes `$OUT_DIR/embedded_prompt_files.rs`: a `&[(path, text)]` expression of every prompt
+/// file, sorted by path (relative to the repository root, `/`-separated).
+fn embed_prompt_files() {
+    let root = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    let mut files = Vec::new();
+    for (dir, extension) in [("prompts", "jinja"), ("api_spec", "")] {
+        println!("cargo:rerun-if-changed={dir}");
+        collect(&root, &root.join(dir), extension, &mut files);
+    }
+    files.sort();
+    let mut code = String::from("&[\n");
+    for relative in files {
+        let absolute = root.join(&relative);
+        let _ = writeln!(
+            code,
+            "    ({relative:?}, include_str!({:?})),",
+            absolute.display().to_string()
+        );
+    }
+    code.push_str("]\n");
+    let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets it"));
+    std::fs::write(out.join("embedded_prompt_files.rs"), code).expect("OUT_DIR is writable");
+}
+
+/// Adds the files under `dir` (recursively) to `files`, as paths relative to `root`: under
+/// `prompts/` only `.jinja` templates; under `api_spec/` the listing, its version and the `.py`
+/// examples.
+fn collect(root: &Path, dir: &Path, extension: &str, files: &mut Vec<String>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect(root, &path, extension, files);
+            continue;
+        }
+        let relative = path
+            .strip_prefix(root)
+            .expect("walked from the root")
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect::<Vec<_>>()
+            .join("/");
+        let wanted = if extension.is_empty() {
+            relative == "api_spec/scene_api.pyi"
+                || relative == "api_spec/VERSION"
+                || (relative.starts_with("api_spec/examples/") && relative.ends_with(".py"))
+        } else {
+            relative.ends_with(&format!(".{extension}"))
+        };
+        if wanted {
+            files.push(relative);
+        }
     }
 }

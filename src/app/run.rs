@@ -453,8 +453,9 @@ fn load_questions(
         };
         if scenarios.is_empty() {
             return Err(user_error(format!(
-                "data root `{}` has no scenario folder (pulley_group, fluid_slides, cloth_collision or soft_body)",
-                root.dir().display()
+                "data root `{}` has no scenario folder ({})",
+                root.dir().display(),
+                Scenario::folder_names()
             )));
         }
         let splits: Vec<Split> = match settings.split {

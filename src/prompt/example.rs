@@ -72,7 +72,10 @@ impl Example {
             .split_once('/')
             .and_then(|(folder, _)| folder.parse::<Scenario>().ok())
             .ok_or_else(|| {
-                problem("examples live in a scenario folder: rope/, fluid/, cloth/ or ball/".into())
+                problem(format!(
+                    "examples live in a scenario folder: {}",
+                    Scenario::ALL.map(|s| format!("{}/", s.name())).join(", ")
+                ))
             })?;
         let header: Vec<&str> = source
             .lines()

@@ -3,130 +3,18 @@
 //!
 //! A prompt set is `prompts/**/*.jinja` plus `api_spec/scene_api.pyi`, `api_spec/VERSION` and
 //! `api_spec/examples/**/*.py`, keyed by their path relative to the repository root. The
-//! embedded copy makes the binary work anywhere; a test checks that [`EMBEDDED`] lists exactly
-//! the files on disk, so a new example or partial cannot be forgotten here.
+//! embedded copy makes the binary work anywhere; `build.rs` lists the files, and a test checks
+//! that [`EMBEDDED`] holds exactly the files on disk.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::error::PromptError;
 
-/// The prompt set compiled into the binary: `(path, text)`.
-pub(crate) const EMBEDDED: &[(&str, &str)] = &[
-    ("api_spec/VERSION", include_str!("../../api_spec/VERSION")),
-    (
-        "api_spec/examples/ball/ball_counterfactual.py",
-        include_str!("../../api_spec/examples/ball/ball_counterfactual.py"),
-    ),
-    (
-        "api_spec/examples/cloth/cloth_predictive.py",
-        include_str!("../../api_spec/examples/cloth/cloth_predictive.py"),
-    ),
-    (
-        "api_spec/examples/fluid/fluid_goaldriven.py",
-        include_str!("../../api_spec/examples/fluid/fluid_goaldriven.py"),
-    ),
-    (
-        "api_spec/examples/rope/color.py",
-        include_str!("../../api_spec/examples/rope/color.py"),
-    ),
-    (
-        "api_spec/examples/rope/existence.py",
-        include_str!("../../api_spec/examples/rope/existence.py"),
-    ),
-    (
-        "api_spec/examples/rope/mass.py",
-        include_str!("../../api_spec/examples/rope/mass.py"),
-    ),
-    (
-        "api_spec/examples/rope/mass_can_not_answer.py",
-        include_str!("../../api_spec/examples/rope/mass_can_not_answer.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_counterfactual.per_question.py",
-        include_str!("../../api_spec/examples/rope/rope_counterfactual.per_question.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_counterfactual.py",
-        include_str!("../../api_spec/examples/rope/rope_counterfactual.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_counterfactual2.per_question.py",
-        include_str!("../../api_spec/examples/rope/rope_counterfactual2.per_question.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_counterfactual2.py",
-        include_str!("../../api_spec/examples/rope/rope_counterfactual2.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_counterfactual_not_move.py",
-        include_str!("../../api_spec/examples/rope/rope_counterfactual_not_move.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_goaldriven.per_question.py",
-        include_str!("../../api_spec/examples/rope/rope_goaldriven.per_question.py"),
-    ),
-    (
-        "api_spec/examples/rope/rope_goaldriven.py",
-        include_str!("../../api_spec/examples/rope/rope_goaldriven.py"),
-    ),
-    (
-        "api_spec/examples/rope/shape.py",
-        include_str!("../../api_spec/examples/rope/shape.py"),
-    ),
-    (
-        "api_spec/examples/rope/tension.py",
-        include_str!("../../api_spec/examples/rope/tension.py"),
-    ),
-    (
-        "api_spec/scene_api.pyi",
-        include_str!("../../api_spec/scene_api.pyi"),
-    ),
-    (
-        "prompts/base.jinja",
-        include_str!("../../prompts/base.jinja"),
-    ),
-    (
-        "prompts/partials/answer_format.jinja",
-        include_str!("../../prompts/partials/answer_format.jinja"),
-    ),
-    (
-        "prompts/partials/examples.jinja",
-        include_str!("../../prompts/partials/examples.jinja"),
-    ),
-    (
-        "prompts/partials/guidelines.jinja",
-        include_str!("../../prompts/partials/guidelines.jinja"),
-    ),
-    (
-        "prompts/partials/query.jinja",
-        include_str!("../../prompts/partials/query.jinja"),
-    ),
-    (
-        "prompts/partials/sandbox.jinja",
-        include_str!("../../prompts/partials/sandbox.jinja"),
-    ),
-    (
-        "prompts/partials/scenarios/ball.jinja",
-        include_str!("../../prompts/partials/scenarios/ball.jinja"),
-    ),
-    (
-        "prompts/partials/scenarios/cloth.jinja",
-        include_str!("../../prompts/partials/scenarios/cloth.jinja"),
-    ),
-    (
-        "prompts/partials/scenarios/fluid.jinja",
-        include_str!("../../prompts/partials/scenarios/fluid.jinja"),
-    ),
-    (
-        "prompts/partials/scenarios/rope.jinja",
-        include_str!("../../prompts/partials/scenarios/rope.jinja"),
-    ),
-    (
-        "prompts/system.jinja",
-        include_str!("../../prompts/system.jinja"),
-    ),
-];
+/// The prompt set compiled into the binary: `(path, text)`, sorted by path; `build.rs` lists
+/// every file of `prompts/` and `api_spec/`.
+pub(crate) const EMBEDDED: &[(&str, &str)] =
+    include!(concat!(env!("OUT_DIR"), "/embedded_prompt_files.rs"));
 
 /// Whether `path` (relative to the set's root, `/`-separated) belongs to a prompt set.
 pub(crate) fn is_prompt_file(path: &str) -> bool {

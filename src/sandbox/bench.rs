@@ -20,7 +20,7 @@ const PROGRAMS: &[(&str, &str)] = &[
     ("trivial", "answer = 1"),
     (
         "paper_shape",
-        "def execute_command(video):\n    found = stub_api(['rope', 'pulley'])\n    return bool_to_yesno(len(found) == 2)\n",
+        "def execute_command(video):\n    found = stub_api(['first', 'second'])\n    return bool_to_yesno(len(found) == 2)\n",
     ),
     (
         "loop_10k",

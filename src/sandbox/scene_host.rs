@@ -21,6 +21,7 @@ use rustpython_vm::{
 };
 
 use super::{ApiClock, Host, HostRegistry, HostSpec, InstallContext};
+use crate::dataset::Scenario;
 use crate::scenarios;
 use crate::scene_api::{
     ApiError, ObjectId, Scene, SceneEvent as RustEvent, SceneObjectInfo, Target, VideoSpec,
@@ -573,7 +574,8 @@ impl Constructor for SoftScene {
             return Err(misuse(
                 vm,
                 &format!(
-                    "SoftScene: this video is a {expected} scene, not `{scene_name}`; scene names are rope, fluid, cloth, ball"
+                    "SoftScene: this video is a {expected} scene, not `{scene_name}`; scene names are {}",
+                    Scenario::names()
                 ),
             ));
         }

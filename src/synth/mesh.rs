@@ -243,7 +243,7 @@ impl Mesh {
                 Some(width) if width > 0.0 => {
                     #[expect(
                         clippy::cast_possible_truncation,
-                        reason = "a stripe counter along a rope of tens of units"
+                        reason = "a stripe counter along a tube of tens of units"
                     )]
                     let band = (length / width).floor() as i64;
                     if band % 2 == 0 { 1.0 } else { 0.55 }
