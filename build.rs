@@ -29,9 +29,9 @@ fn main() {
 fn embed_prompt_files() {
     let root = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
     let mut files = Vec::new();
-    for (dir, extension) in [("prompts", "jinja"), ("api_spec", "")] {
+    for dir in ["prompts", "api_spec"] {
         println!("cargo:rerun-if-changed={dir}");
-        collect(&root, &root.join(dir), extension, &mut files);
+        collect(&root, &root.join(dir), &mut files);
     }
     files.sort();
     let mut code = String::from("&[\n");
@@ -45,20 +45,27 @@ fn embed_prompt_files() {
     }
     code.push_str("]\n");
     let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets it"));
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "a build script has no fs-err; a failure here stops the build with the panic"
+    )]
     std::fs::write(out.join("embedded_prompt_files.rs"), code).expect("OUT_DIR is writable");
 }
 
-/// Adds the files under `dir` (recursively) to `files`, as paths relative to `root`: under
-/// `prompts/` only `.jinja` templates; under `api_spec/` the listing, its version and the `.py`
-/// examples.
-fn collect(root: &Path, dir: &Path, extension: &str, files: &mut Vec<String>) {
+/// Adds the prompt files under `dir` (recursively) to `files`, as paths relative to `root`:
+/// the rule of `prompt::files::is_prompt_file` (a test checks the two agree).
+fn collect(root: &Path, dir: &Path, files: &mut Vec<String>) {
+    #[expect(
+        clippy::disallowed_methods,
+        reason = "a build script has no fs-err; a missing folder embeds nothing from it"
+    )]
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
     for entry in entries.flatten() {
         let path = entry.path();
         if path.is_dir() {
-            collect(root, &path, extension, files);
+            collect(root, &path, files);
             continue;
         }
         let relative = path
@@ -68,13 +75,14 @@ fn collect(root: &Path, dir: &Path, extension: &str, files: &mut Vec<String>) {
             .map(|c| c.as_os_str().to_string_lossy().into_owned())
             .collect::<Vec<_>>()
             .join("/");
-        let wanted = if extension.is_empty() {
-            relative == "api_spec/scene_api.pyi"
-                || relative == "api_spec/VERSION"
-                || (relative.starts_with("api_spec/examples/") && relative.ends_with(".py"))
-        } else {
-            relative.ends_with(&format!(".{extension}"))
+        let has_extension = |wanted: &str| {
+            path.extension()
+                .is_some_and(|found| found.eq_ignore_ascii_case(wanted))
         };
+        let wanted = (relative.starts_with("prompts/") && has_extension("jinja"))
+            || relative == "api_spec/scene_api.pyi"
+            || relative == "api_spec/VERSION"
+            || (relative.starts_with("api_spec/examples/") && has_extension("py"));
         if wanted {
             files.push(relative);
         }

@@ -59,17 +59,20 @@ impl fmt::Display for PromptMode {
     }
 }
 
+/// A prompt mode name that is neither.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown prompt mode `{0}`: expected per-option or per-question")]
+pub struct UnknownPromptMode(pub String);
+
 /// Accepts `per_option`, `per-option`, `option` and likewise for questions.
 impl FromStr for PromptMode {
-    type Err = String;
+    type Err = UnknownPromptMode;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
         match text.trim().to_ascii_lowercase().replace('-', "_").as_str() {
             "per_option" | "option" => Ok(PromptMode::PerOption),
             "per_question" | "question" => Ok(PromptMode::PerQuestion),
-            _ => Err(format!(
-                "unknown prompt mode `{text}`: expected per-option or per-question"
-            )),
+            _ => Err(UnknownPromptMode(text.to_string())),
         }
     }
 }
@@ -217,10 +220,7 @@ mod tests {
             ("per-option", Ok(PromptMode::PerOption)),
             ("Per-Question", Ok(PromptMode::PerQuestion)),
             ("question", Ok(PromptMode::PerQuestion)),
-            (
-                "both",
-                Err("unknown prompt mode `both`: expected per-option or per-question".to_string()),
-            ),
+            ("both", Err(UnknownPromptMode("both".to_string()))),
         ];
         for (text, expected) in cases {
             assert_eq!(text.parse::<PromptMode>(), expected, "{text}");

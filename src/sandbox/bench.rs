@@ -203,7 +203,7 @@ fn measure_in_process(config: &BenchConfig) -> Result<(TimeSummary, Vec<ProgramT
                 let mut sandbox = Sandbox::new();
                 sandbox.warm_up()?;
                 let mut host = StubHost::from_config(&serde_json::json!({"video": "bench"}))
-                    .map_err(Error::internal)?;
+                    .map_err(|error| Error::internal(error.0))?;
                 let budgets = Budgets::default();
                 let mut timings = Vec::new();
                 for (name, source) in PROGRAMS {

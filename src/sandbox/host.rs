@@ -125,8 +125,14 @@ impl InstallContext<'_> {
     }
 }
 
+/// Why a host could not be built from its JSON config (the message names the field).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct HostConfigError(pub String);
+
 /// Builds a host from its JSON config, or says why it cannot.
-pub type HostConstructor = Box<dyn Fn(&serde_json::Value) -> Result<Box<dyn Host>, String>>;
+pub type HostConstructor =
+    Box<dyn Fn(&serde_json::Value) -> Result<Box<dyn Host>, HostConfigError>>;
 
 /// The worker's host factory: named constructors plus a small memo of built hosts.
 pub struct HostRegistry {
@@ -180,7 +186,7 @@ impl HostRegistry {
     pub fn register(
         &mut self,
         name: impl Into<String>,
-        constructor: impl Fn(&serde_json::Value) -> Result<Box<dyn Host>, String> + 'static,
+        constructor: impl Fn(&serde_json::Value) -> Result<Box<dyn Host>, HostConfigError> + 'static,
     ) -> &mut Self {
         self.constructors.insert(name.into(), Box::new(constructor));
         self
@@ -215,10 +221,10 @@ impl HostRegistry {
                 constructor(&spec.config)
             }))
             .unwrap_or_else(|payload| {
-                Err(format!(
+                Err(HostConfigError(format!(
                     "the constructor panicked: {}",
                     super::clock::panic_message(payload.as_ref())
-                ))
+                )))
             });
             let host = built.map_err(|message| {
                 Error::internal(format!("cannot build host `{}`: {message}", spec.name))
@@ -270,11 +276,15 @@ impl StubHost {
     pub const API_ERROR_CLASS: &'static str = "StubApiError";
 
     /// Builds a stub host from `{"video": "..."}` (all fields optional).
-    pub fn from_config(config: &serde_json::Value) -> Result<Self, String> {
+    pub fn from_config(config: &serde_json::Value) -> Result<Self, HostConfigError> {
         let video = match config.get("video") {
             None | Some(serde_json::Value::Null) => None,
             Some(serde_json::Value::String(video)) => Some(video.clone()),
-            Some(other) => return Err(format!("`video` must be a string, found {other}")),
+            Some(other) => {
+                return Err(HostConfigError(format!(
+                    "`video` must be a string, found {other}"
+                )));
+            }
         };
         Ok(Self {
             video,

@@ -81,7 +81,9 @@ mod worker;
 pub use bench::{BenchConfig, BenchReport, PoolThroughput, ProgramTiming, TimeSummary, run_bench};
 pub use clock::ApiClock;
 pub use error::Error;
-pub use host::{Host, HostConstructor, HostRegistry, HostSpec, InstallContext, StubHost};
+pub use host::{
+    Host, HostConfigError, HostConstructor, HostRegistry, HostSpec, InstallContext, StubHost,
+};
 pub use interpreter::{RunReport, Sandbox};
 pub use limits::{Budgets, ValueLimits, WorkerLimits};
 pub use pool::{KILL_SLACK, Pool, PoolConfig, PoolStats, Unit, UnitResult, WorkerCommand};

@@ -20,7 +20,7 @@ use rustpython_vm::{
     AsObject, Py, PyObject, PyObjectRef, PyPayload, PyResult, VirtualMachine, pyclass,
 };
 
-use super::{ApiClock, Host, HostRegistry, HostSpec, InstallContext};
+use super::{ApiClock, Host, HostConfigError, HostRegistry, HostSpec, InstallContext};
 use crate::dataset::Scenario;
 use crate::scenarios;
 use crate::scene_api::{
@@ -59,9 +59,9 @@ impl SceneHost {
     }
 
     /// Builds a host from its spec's JSON config.
-    pub fn from_config(config: &serde_json::Value) -> Result<SceneHost, String> {
+    pub fn from_config(config: &serde_json::Value) -> Result<SceneHost, HostConfigError> {
         let video: VideoSpec = serde_json::from_value(config.clone())
-            .map_err(|error| format!("bad scene host config: {error}"))?;
+            .map_err(|error| HostConfigError(format!("bad scene host config: {error}")))?;
         Ok(SceneHost::new(video))
     }
 
