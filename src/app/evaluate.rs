@@ -7,10 +7,9 @@
 //! (which unit loaded a video's annotations) independent of network timing, so replays give the
 //! same predictions. A program that failed with a syntax error or a scene-API misuse gets a
 //! repair turn when the source allows it (`--repair K`). A task is finished when each of its
-//! samples has an outcome; its predictions are handed to `on_task_done` at once, so a kill loses
-//! only unfinished tasks.
-
-use std::collections::BTreeMap;
+//! samples has an outcome; its predictions are handed to `on_task_done` at once, while the
+//! sandbox still runs other programs, so a kill loses only the tasks in flight (the builtin
+//! writer's runs included, whose programs are all obtained in one round).
 
 use serde_json::Value;
 
@@ -98,7 +97,9 @@ fn feedback(error: &UnitError) -> String {
     )
 }
 
-/// Runs every task to completion. `on_task_done` receives each finished task's predictions.
+/// Runs every task to completion. `on_task_done` receives each finished task's predictions as
+/// soon as its last sample has an outcome (while other programs still run), so a kill loses
+/// only the tasks in flight.
 pub(crate) fn evaluate(
     tasks: &[Task],
     questions: &[Question],
@@ -107,86 +108,133 @@ pub(crate) fn evaluate(
     mut on_task_done: impl FnMut(Vec<Prediction>) -> Result<(), AppError>,
 ) -> Result<(), AppError> {
     let samples_per_task = settings.samples.max(1);
-    let mut states: Vec<Vec<Sample>> = tasks
-        .iter()
-        .map(|_| (0..samples_per_task).map(|_| Sample::default()).collect())
-        .collect();
-    let mut reported = vec![false; tasks.len()];
-    let mut pool: Option<Pool> = None;
+    let mut rounds = Rounds {
+        tasks,
+        questions,
+        source,
+        settings,
+        states: tasks
+            .iter()
+            .map(|_| (0..samples_per_task).map(|_| Sample::default()).collect())
+            .collect(),
+        reported: vec![false; tasks.len()],
+        pool: None,
+    };
     loop {
-        // 1. Programs for every sample that has neither an outcome nor a program to run.
+        rounds.obtain_programs()?;
+        rounds.run_pending(&mut on_task_done)?;
+        if rounds.report_finished(&mut on_task_done)? == 0 {
+            return Ok(());
+        }
+    }
+}
+
+/// The state of a run's evaluation rounds.
+struct Rounds<'a> {
+    tasks: &'a [Task],
+    questions: &'a [Question],
+    source: &'a dyn ProgramSource,
+    settings: EvaluationSettings,
+    /// Per task, its samples.
+    states: Vec<Vec<Sample>>,
+    /// Per task, whether its predictions were handed out.
+    reported: Vec<bool>,
+    /// The sandbox pool, started when the first program is ready to run.
+    pool: Option<Pool>,
+}
+
+impl Rounds<'_> {
+    /// Step 1: a program for every sample that has neither an outcome nor a program to run
+    /// (for an LLM source, many requests at once, each completion cached as it arrives).
+    fn obtain_programs(&mut self) -> Result<(), AppError> {
         let mut wanted: Vec<(usize, usize)> = Vec::new();
-        for (task_index, samples) in states.iter().enumerate() {
+        for (task_index, samples) in self.states.iter().enumerate() {
             for (sample_index, sample) in samples.iter().enumerate() {
                 if sample.outcome.is_none() && sample.pending.is_none() {
                     wanted.push((task_index, sample_index));
                 }
             }
         }
-        if !wanted.is_empty() {
-            let requests: Vec<ProgramRequest<'_>> = wanted
-                .iter()
-                .filter_map(|&(task_index, sample_index)| {
-                    let task = tasks.get(task_index)?;
-                    Some(ProgramRequest {
-                        question: questions.get(task.question_index)?,
-                        option: task.option.as_ref(),
-                        whole_question: task.whole_question,
-                        sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
-                        repairs: &states[task_index][sample_index].repairs,
-                        unit: task.units.first().map_or("", |(unit, _)| unit.as_str()),
-                    })
+        if wanted.is_empty() {
+            return Ok(());
+        }
+        let requests: Vec<ProgramRequest<'_>> = wanted
+            .iter()
+            .filter_map(|&(task_index, sample_index)| {
+                let task = self.tasks.get(task_index)?;
+                Some(ProgramRequest {
+                    question: self.questions.get(task.question_index)?,
+                    option: task.option.as_ref(),
+                    whole_question: task.whole_question,
+                    sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
+                    repairs: &self.states[task_index][sample_index].repairs,
+                    unit: task.units.first().map_or("", |(unit, _)| unit.as_str()),
                 })
-                .collect();
-            let obtained = source.obtain_batch(&requests)?;
-            drop(requests);
-            for ((task_index, sample_index), result) in wanted.into_iter().zip(obtained) {
-                let sample = &mut states[task_index][sample_index];
-                let attempt = u32::try_from(sample.attempts.len()).unwrap_or(u32::MAX);
-                match result {
-                    Ok(obtained) => {
-                        if let Some(usage) = &obtained.usage {
-                            sample.usage.add(usage);
-                        }
-                        sample.pending = Some(obtained);
+            })
+            .collect();
+        let obtained = self.source.obtain_batch(&requests)?;
+        drop(requests);
+        for ((task_index, sample_index), result) in wanted.into_iter().zip(obtained) {
+            let can_repair = self.source.can_repair();
+            let repair_turns = self.settings.repair as usize;
+            let sample = &mut self.states[task_index][sample_index];
+            let attempt = u32::try_from(sample.attempts.len()).unwrap_or(u32::MAX);
+            match result {
+                Ok(obtained) => {
+                    if let Some(usage) = &obtained.usage {
+                        sample.usage.add(usage);
                     }
-                    Err(failed) => {
-                        if let Some(usage) = &failed.usage {
-                            sample.usage.add(usage);
-                        }
-                        let error = failed.error;
-                        sample.attempts.push(Attempt {
-                            sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
-                            attempt,
-                            program_hash: None,
-                            program_key: failed.key,
-                            error: Some(error.clone()),
+                    sample.pending = Some(obtained);
+                }
+                Err(failed) => {
+                    if let Some(usage) = &failed.usage {
+                        sample.usage.add(usage);
+                    }
+                    let error = failed.error;
+                    sample.attempts.push(Attempt {
+                        sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
+                        attempt,
+                        program_hash: None,
+                        program_key: failed.key,
+                        error: Some(error.clone()),
+                    });
+                    let retry = error.stage == Stage::Extract
+                        && can_repair
+                        && sample.attempts.len() <= repair_turns;
+                    if retry {
+                        sample.repairs.push(RepairTurn {
+                            completion: failed.completion.unwrap_or_default(),
+                            feedback: feedback(&error),
                         });
-                        let retry = error.stage == Stage::Extract
-                            && source.can_repair()
-                            && sample.attempts.len() <= settings.repair as usize;
-                        if retry {
-                            sample.repairs.push(RepairTurn {
-                                completion: failed.completion.unwrap_or_default(),
-                                feedback: feedback(&error),
-                            });
-                        } else {
-                            sample.finish(None, Err(error));
-                        }
+                    } else {
+                        sample.finish(None, Err(error));
                     }
                 }
             }
         }
+        Ok(())
+    }
 
-        // 2. Run the pending programs, in a fixed order.
+    /// Step 2: runs the pending programs in the sandbox pool, submitted in a fixed order (by
+    /// video, then task, then sample: which unit loads a video's annotations does not depend on
+    /// network timing); each result is recorded as it arrives, and a task whose samples all
+    /// have outcomes is reported at once.
+    fn run_pending(
+        &mut self,
+        on_task_done: &mut impl FnMut(Vec<Prediction>) -> Result<(), AppError>,
+    ) -> Result<(), AppError> {
         let mut runnable: Vec<(usize, usize)> = Vec::new();
-        for (task_index, samples) in states.iter().enumerate() {
+        for (task_index, samples) in self.states.iter().enumerate() {
             for (sample_index, sample) in samples.iter().enumerate() {
                 if sample.pending.is_some() {
                     runnable.push((task_index, sample_index));
                 }
             }
         }
+        if runnable.is_empty() {
+            return Ok(());
+        }
+        let tasks = self.tasks;
         runnable.sort_by(|a, b| {
             let key = |(task_index, sample_index): (usize, usize)| {
                 let video = &tasks[task_index].video;
@@ -199,101 +247,128 @@ pub(crate) fn evaluate(
             };
             key(*a).cmp(&key(*b))
         });
-        if !runnable.is_empty() {
-            if pool.is_none() {
-                let videos: std::collections::BTreeSet<&str> =
-                    tasks.iter().map(|t| t.video.video_id.as_str()).collect();
-                pool = Some(start_pool(
-                    settings.workers.min(videos.len().max(1)),
-                    settings.budgets,
-                )?);
-            }
-            let Some(pool) = pool.as_ref() else {
-                continue;
-            };
-            let budgets = sandbox_budgets(settings.budgets);
-            for (id, &(task_index, sample_index)) in runnable.iter().enumerate() {
-                let task = &tasks[task_index];
-                let Some(pending) = states[task_index][sample_index].pending.as_ref() else {
-                    continue;
-                };
-                pool.submit(Unit {
-                    id: id as u64,
-                    key: format!("{}/{}", task.video.scenario, task.video.video_id),
-                    host: scene_host_spec(&task.video),
-                    source: pending.program.source.clone(),
-                    budgets: budgets.clone(),
-                })
-                .internal()?;
-            }
-            let mut outcomes: BTreeMap<usize, SandboxOutcome> = BTreeMap::new();
-            for result in pool.results() {
-                if let Ok(id) = usize::try_from(result.unit_id) {
-                    outcomes.insert(id, outcome_from(&result));
-                }
-            }
-            for (id, (task_index, sample_index)) in runnable.into_iter().enumerate() {
-                let sample = &mut states[task_index][sample_index];
-                let Some(obtained) = sample.pending.take() else {
-                    continue;
-                };
-                let outcome = outcomes.remove(&id).unwrap_or_else(SandboxOutcome::lost);
-                sample.work = add_work(&sample.work, &outcome.work);
-                sample.own_ms += outcome.own_ms;
-                sample.api_ms += outcome.api_ms;
-                sample.wall_ms += outcome.wall_ms;
-                sample.attempts.push(Attempt {
-                    sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
-                    attempt: u32::try_from(sample.attempts.len()).unwrap_or(u32::MAX),
-                    program_hash: Some(obtained.program.hash()),
-                    program_key: obtained.program.key.clone(),
-                    error: outcome.result.as_ref().err().cloned(),
-                });
-                match outcome.result {
-                    Err(error)
-                        if repairable(&error)
-                            && source.can_repair()
-                            && sample.attempts.len() <= settings.repair as usize =>
-                    {
-                        let completion = obtained
-                            .completion
-                            .clone()
-                            .unwrap_or_else(|| obtained.program.source.clone());
-                        sample.repairs.push(RepairTurn {
-                            completion,
-                            feedback: feedback(&error),
-                        });
-                    }
-                    result => sample.finish(Some(obtained.program), result),
-                }
-            }
+        if self.pool.is_none() {
+            let videos: std::collections::BTreeSet<&str> =
+                tasks.iter().map(|t| t.video.video_id.as_str()).collect();
+            self.pool = Some(start_pool(
+                self.settings.workers.min(videos.len().max(1)),
+                self.settings.budgets,
+            )?);
         }
-
-        // 3. Report finished tasks.
-        let mut unfinished = 0;
-        for (task_index, samples) in states.iter_mut().enumerate() {
-            if reported[task_index] {
-                continue;
-            }
-            if samples.iter().any(|s| s.outcome.is_none()) {
-                unfinished += 1;
-                continue;
-            }
-            let task = &tasks[task_index];
-            let Some(question) = questions.get(task.question_index) else {
-                reported[task_index] = true;
-                continue;
-            };
-            on_task_done(task_predictions(task, question, samples))?;
-            reported[task_index] = true;
-            // Free what is no longer needed.
-            for sample in samples.iter_mut() {
-                sample.repairs.clear();
-            }
-        }
-        if unfinished == 0 {
+        let Some(pool) = self.pool.take() else {
             return Ok(());
+        };
+        let budgets = sandbox_budgets(self.settings.budgets);
+        for (id, &(task_index, sample_index)) in runnable.iter().enumerate() {
+            let task = &tasks[task_index];
+            let Some(pending) = self.states[task_index][sample_index].pending.as_ref() else {
+                continue;
+            };
+            pool.submit(Unit {
+                id: id as u64,
+                key: format!("{}/{}", task.video.scenario, task.video.video_id),
+                host: scene_host_spec(&task.video),
+                source: pending.program.source.clone(),
+                budgets: budgets.clone(),
+            })
+            .internal()?;
         }
+        for result in pool.results() {
+            if let Some(&(task_index, sample_index)) = usize::try_from(result.unit_id)
+                .ok()
+                .and_then(|id| runnable.get(id))
+            {
+                self.record(task_index, sample_index, outcome_from(&result));
+                self.report_task(task_index, on_task_done)?;
+            }
+        }
+        // A unit the pool never answered (its worker lost with it) still ends.
+        for (task_index, sample_index) in runnable {
+            if self.states[task_index][sample_index].pending.is_some() {
+                self.record(task_index, sample_index, SandboxOutcome::lost());
+                self.report_task(task_index, on_task_done)?;
+            }
+        }
+        self.pool = Some(pool);
+        Ok(())
+    }
+
+    /// Records a sandbox outcome for one sample: its work and times, the attempt, and either a
+    /// repair turn (when the source can repair and the error is worth one) or its final outcome.
+    fn record(&mut self, task_index: usize, sample_index: usize, outcome: SandboxOutcome) {
+        let can_repair = self.source.can_repair();
+        let repair_turns = self.settings.repair as usize;
+        let sample = &mut self.states[task_index][sample_index];
+        let Some(obtained) = sample.pending.take() else {
+            return;
+        };
+        sample.work = add_work(&sample.work, &outcome.work);
+        sample.own_ms += outcome.own_ms;
+        sample.api_ms += outcome.api_ms;
+        sample.wall_ms += outcome.wall_ms;
+        sample.attempts.push(Attempt {
+            sample: u32::try_from(sample_index).unwrap_or(u32::MAX),
+            attempt: u32::try_from(sample.attempts.len()).unwrap_or(u32::MAX),
+            program_hash: Some(obtained.program.hash()),
+            program_key: obtained.program.key.clone(),
+            error: outcome.result.as_ref().err().cloned(),
+        });
+        match outcome.result {
+            Err(error)
+                if repairable(&error) && can_repair && sample.attempts.len() <= repair_turns =>
+            {
+                let completion = obtained
+                    .completion
+                    .clone()
+                    .unwrap_or_else(|| obtained.program.source.clone());
+                sample.repairs.push(RepairTurn {
+                    completion,
+                    feedback: feedback(&error),
+                });
+            }
+            result => sample.finish(Some(obtained.program), result),
+        }
+    }
+
+    /// Hands out task `task_index`'s predictions when every sample has an outcome and it was
+    /// not reported yet; returns whether it is finished.
+    fn report_task(
+        &mut self,
+        task_index: usize,
+        on_task_done: &mut impl FnMut(Vec<Prediction>) -> Result<(), AppError>,
+    ) -> Result<bool, AppError> {
+        if self.reported[task_index] {
+            return Ok(true);
+        }
+        let samples = &mut self.states[task_index];
+        if samples.iter().any(|s| s.outcome.is_none()) {
+            return Ok(false);
+        }
+        let task = &self.tasks[task_index];
+        if let Some(question) = self.questions.get(task.question_index) {
+            on_task_done(task_predictions(task, question, samples))?;
+        }
+        self.reported[task_index] = true;
+        // Free what is no longer needed.
+        for sample in samples.iter_mut() {
+            sample.repairs.clear();
+        }
+        Ok(true)
+    }
+
+    /// Step 3: reports the tasks finished without a sandbox run (a program that could not be
+    /// obtained); returns how many tasks are still unfinished.
+    fn report_finished(
+        &mut self,
+        on_task_done: &mut impl FnMut(Vec<Prediction>) -> Result<(), AppError>,
+    ) -> Result<usize, AppError> {
+        let mut unfinished = 0;
+        for task_index in 0..self.tasks.len() {
+            if !self.report_task(task_index, on_task_done)? {
+                unfinished += 1;
+            }
+        }
+        Ok(unfinished)
     }
 }
 

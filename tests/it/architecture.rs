@@ -269,11 +269,17 @@ fn lex(source: &str) -> Code {
         lines.pop();
         strings.pop();
     }
-    drop_test_items(Code { lines, strings })
+    drop_test_items(&Code { lines, strings })
+}
+
+/// `{` minus `}` on a line of code.
+fn brace_balance(line: &str) -> i64 {
+    let count = |brace: char| i64::try_from(line.matches(brace).count()).unwrap_or(i64::MAX);
+    count('{') - count('}')
 }
 
 /// Removes `#[cfg(test)]` items (a module or function with its attributes).
-fn drop_test_items(code: Code) -> Code {
+fn drop_test_items(code: &Code) -> Code {
     let mut kept = Code {
         lines: Vec::new(),
         strings: Vec::new(),
@@ -286,7 +292,7 @@ fn drop_test_items(code: Code) -> Code {
             let mut opened = false;
             while index < code.lines.len() {
                 let line = &code.lines[index];
-                depth += line.matches('{').count() as i64 - line.matches('}').count() as i64;
+                depth += brace_balance(line);
                 opened |= line.contains('{');
                 index += 1;
                 if (opened && depth <= 0) || (!opened && line.trim_end().ends_with(';')) {
@@ -415,7 +421,15 @@ fn the_scenario_check_sees_names_in_code_and_strings_but_not_in_comments_or_test
         .collect();
     assert_eq!(
         named,
-        vec!["rope", "rope", "pulley_group", "pulley", "pulley", "ball", "ball"]
+        vec![
+            "rope",
+            "rope",
+            "pulley_group",
+            "pulley",
+            "pulley",
+            "ball",
+            "ball"
+        ]
     );
     assert!(is_scenario_code("scene_api/rope/mod.rs"));
     assert!(is_scenario_code("program/builtin/rope.rs"));
@@ -484,9 +498,15 @@ fn oversized() -> Vec<String> {
         for (start, line) in code.lines.iter().enumerate() {
             let trimmed = line.trim_start();
             let is_fn = trimmed.starts_with("fn ")
-                || ["pub fn ", "pub(crate) fn ", "pub(super) fn ", "const fn ", "pub const fn "]
-                    .iter()
-                    .any(|prefix| trimmed.starts_with(prefix));
+                || [
+                    "pub fn ",
+                    "pub(crate) fn ",
+                    "pub(super) fn ",
+                    "const fn ",
+                    "pub const fn ",
+                ]
+                .iter()
+                .any(|prefix| trimmed.starts_with(prefix));
             if !is_fn {
                 continue;
             }
@@ -497,7 +517,7 @@ fn oversized() -> Vec<String> {
                 if !opened && line.trim_end().ends_with(';') && !line.contains('{') {
                     break;
                 }
-                depth += line.matches('{').count() as i64 - line.matches('}').count() as i64;
+                depth += brace_balance(line);
                 opened |= line.contains('{');
                 end = index;
                 if opened && depth <= 0 {

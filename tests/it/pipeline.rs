@@ -395,3 +395,106 @@ fn per_question_programs_answer_every_option_and_score_the_same() {
     assert!(options[0]["work"]["api_calls"].as_u64().unwrap() > 0);
     assert!(options[1..].iter().all(|p| p["work"]["api_calls"] == 0));
 }
+
+/// Builtin runs write each prediction as its program finishes, as LLM runs do: with one program
+/// that runs on (a cached stand-in that loops), the other units' predictions are on disk while
+/// it runs, so a crash then loses only the unit in flight.
+#[test]
+fn builtin_runs_write_each_prediction_as_it_completes() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+
+    let out = tempfile::tempdir().unwrap();
+    let first = out.path().join("first");
+    let cache = out.path().join("cache");
+    let limit = ["--limit", "12"];
+    let made = run_all_questions(
+        &first,
+        &[&["--cache", cache.to_str().unwrap()][..], &limit].concat(),
+    );
+    assert!(made.status.success(), "{}", stderr(&made));
+    let exported = out.path().join("programs.jsonl");
+    let export = contphy(
+        &root(),
+        &[
+            "cache",
+            "export",
+            "--cache",
+            cache.to_str().unwrap(),
+            "--run",
+            first.to_str().unwrap(),
+            "--out",
+            exported.to_str().unwrap(),
+        ],
+    );
+    assert!(export.status.success(), "{}", stderr(&export));
+    // The last unit's program becomes one that never returns (a video's units run on one
+    // worker, in order, so the others run before it).
+    let text = fs_err::read_to_string(&exported).unwrap();
+    let mut lines: Vec<Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let last = lines.len() - 1;
+    lines[last]["program"] =
+        Value::from("def execute_command(video):\n    while True:\n        pass\n");
+    let edited: Vec<String> = lines.iter().map(ToString::to_string).collect();
+    fs_err::write(&exported, edited.join("\n") + "\n").unwrap();
+    let looping_cache = out.path().join("looping");
+    let import = contphy(
+        &root(),
+        &[
+            "cache",
+            "import",
+            "--cache",
+            looping_cache.to_str().unwrap(),
+            exported.to_str().unwrap(),
+        ],
+    );
+    assert!(import.status.success(), "{}", stderr(&import));
+
+    let run = out.path().join("second");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_contphy-eval"))
+        .args([
+            "run",
+            "--data",
+            "eval/demo",
+            "--questions",
+            "eval/demo/pulley_group/0.json",
+            "--cache",
+            looping_cache.to_str().unwrap(),
+            "--program-timeout",
+            "120",
+            "--quiet",
+            "--out",
+            run.to_str().unwrap(),
+        ])
+        .args(limit)
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let units = predictions_without_timings(&first).len();
+    let started = Instant::now();
+    let mut written = 0;
+    while started.elapsed() < Duration::from_secs(90) {
+        written = fs_err::read_to_string(run.join("predictions.jsonl"))
+            .map(|text| text.lines().count())
+            .unwrap_or(0);
+        if written == units - 1 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    // The looping program is still running (its budget is 120 s): kill the run as a crash.
+    let still_running = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(still_running, "the run ended before it was killed");
+    assert_eq!(
+        written,
+        units - 1,
+        "every unit but the one in flight was written before the crash"
+    );
+}
