@@ -480,8 +480,7 @@ fn builtin_runs_write_each_prediction_as_it_completes() {
     let mut written = 0;
     while started.elapsed() < Duration::from_secs(90) {
         written = fs_err::read_to_string(run.join("predictions.jsonl"))
-            .map(|text| text.lines().count())
-            .unwrap_or(0);
+            .map_or(0, |text| text.lines().count());
         if written == units - 1 {
             break;
         }
