@@ -30,9 +30,144 @@ use crate::util::content_hash;
 
 pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let root = DataRoot::open(&settings.data).user()?;
-    let (sources, question_files) = load_questions(&root, settings)?;
+    let Selection {
+        questions,
+        videos,
+        question_files,
+        skipped_invalid,
+    } = select_questions(&root, settings)?;
+    // The backends' prerequisites, before the first unit: a missing one is one line, not a
+    // report of failed units.
+    let models = resolve_models(
+        settings.perception,
+        questions.iter().map(|q| q.scenario),
+        &settings.models,
+    )?;
+    check_frames(settings.perception, videos.values().flatten())?;
+
+    let priors = load_priors(&root, &questions)?;
+    let out = settings.out.clone().unwrap_or_else(default_run_dir);
+    let source = program_source(settings, &out)?;
+    let identity = RunIdentity {
+        program_source: source.name(),
+        source_identity: source_identity(&source.describe()),
+        offline: settings.offline,
+        perception: settings.perception,
+        perception_models: model_hashes(&models)?,
+        dynamics: settings.dynamics,
+        budgets: settings.budgets,
+        split: settings.split,
+        question_files: question_files.clone(),
+        data_hash: data_hash(videos.values().flatten())?,
+        limit: settings.limit,
+        shard: settings.shard,
+        per_question: settings.per_question,
+        samples: settings.samples,
+        repair: settings.repair,
+    };
+    let run_dir = RunDir::new(&out);
+    let done = resumed_predictions(&run_dir, settings, &identity)?;
+    fs_err::create_dir_all(&out).user()?;
+
+    let eval_questions: Vec<EvalQuestion> =
+        questions.iter().map(EvalQuestion::from_question).collect();
+    let unit_order: Vec<String> = eval_questions
+        .iter()
+        .flat_map(EvalQuestion::unit_ids)
+        .collect();
+    let mut manifest = Manifest {
+        tool: "contphy-eval".to_string(),
+        tool_version: env!("CARGO_PKG_VERSION").to_string(),
+        git_revision: option_env!("CONTPHY_GIT_REVISION").map(str::to_string),
+        source: source.describe(),
+        identity,
+        data_root: settings.data.display().to_string(),
+        questions: questions.len(),
+        units: unit_order.len(),
+        skipped_invalid_video_questions: skipped_invalid,
+        started_unix_ms: unix_ms(),
+        finished_unix_ms: 0,
+        usage: None,
+    };
+    run_dir.write_manifest(&manifest)?;
+    run_dir.write_questions(&RunQuestions {
+        questions: eval_questions.clone(),
+        priors: priors.clone(),
+    })?;
+
+    let finished: BTreeSet<&str> = done.iter().map(|p| p.unit.as_str()).collect();
+    if settings.resume && !finished.is_empty() {
+        let kept = unit_order
+            .iter()
+            .filter(|unit| finished.contains(unit.as_str()))
+            .count();
+        let mut stderr = std::io::stderr().lock();
+        let _ = writeln!(
+            stderr,
+            "resuming: {kept} of {} units already done",
+            unit_order.len()
+        );
+    }
+    let tasks = plan_tasks(&questions, &videos, &finished, &models, settings);
+    let new_predictions = run_tasks(
+        &tasks,
+        &questions,
+        &finished,
+        source.as_ref(),
+        &run_dir,
+        settings,
+    )?;
+
+    let mut all = done;
+    all.extend(new_predictions);
+    run_dir.rewrite_predictions(&all, &unit_order)?;
+    let predictions = run_dir.read_predictions()?;
+    let scores = score(&eval_questions, &predictions, &priors);
+    run_dir.write_json("results.json", &json!({ "scores": scores }))?;
+    let usage = run_usage(&predictions);
+    let meta = ReportMeta {
+        usage,
+        run_name: out.file_name().map_or_else(
+            || out.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
+        program_source: source.name(),
+        backends: backends_line(settings),
+        questions: question_files
+            .iter()
+            .map(|(path, _)| path.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+    };
+    let report = render_run_report(&meta, &scores);
+    run_dir.write_text("report.md", &report)?;
+    manifest.finished_unix_ms = unix_ms();
+    manifest.usage = usage;
+    run_dir.write_manifest(&manifest)?;
+
+    let mut stdout = std::io::stdout().lock();
+    let _ = write!(stdout, "{report}");
+    let _ = writeln!(stdout, "\nrun directory: {}", run_dir.dir().display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The questions a run evaluates, with their video folders.
+struct Selection {
+    /// In file order, then sharded and limited; questions of invalid trials left out.
+    questions: Vec<Question>,
+    /// Every video a question names: its folder, or `None` for an invalid trial.
+    videos: BTreeMap<(Scenario, String), Option<VideoFolder>>,
+    /// The question files read (path and content hash).
+    question_files: Vec<(String, String)>,
+    /// Questions left out because their video is an invalid trial.
+    skipped_invalid: usize,
+}
+
+/// Loads the run's question files and selects its questions: every question must name a video
+/// folder; questions of invalid trials are skipped with a count; then `--shard` and `--limit`.
+fn select_questions(root: &DataRoot, settings: &RunSettings) -> Result<Selection, AppError> {
+    let (sources, question_files) = load_questions(root, settings)?;
     let mut questions: Vec<Question> = Vec::new();
-    // Every question must name a video folder; invalid trials are skipped with a count.
     let mut videos: BTreeMap<(Scenario, String), Option<VideoFolder>> = BTreeMap::new();
     for source in sources {
         for question in source.questions {
@@ -80,98 +215,51 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             "no questions to evaluate (check --questions, --split, --scenario, --shard and --limit)",
         ));
     }
-    // The backends' prerequisites, before the first unit: a missing one is one line, not a
-    // report of failed units.
-    let models = resolve_models(
-        settings.perception,
-        questions.iter().map(|q| q.scenario),
-        &settings.models,
-    )?;
-    check_frames(settings.perception, videos.values().flatten())?;
+    Ok(Selection {
+        questions,
+        videos,
+        question_files,
+        skipped_invalid,
+    })
+}
 
-    let priors = load_priors(&root, &questions)?;
-    let out = settings.out.clone().unwrap_or_else(default_run_dir);
-    let source = program_source(settings, &out)?;
-    let identity = RunIdentity {
-        program_source: source.name(),
-        source_identity: source_identity(&source.describe()),
-        offline: settings.offline,
-        perception: settings.perception,
-        perception_models: model_hashes(&models)?,
-        dynamics: settings.dynamics,
-        budgets: settings.budgets,
-        split: settings.split,
-        question_files: question_files.clone(),
-        data_hash: data_hash(videos.values().flatten())?,
-        limit: settings.limit,
-        shard: settings.shard,
-        per_question: settings.per_question,
-        samples: settings.samples,
-        repair: settings.repair,
-    };
-
-    let run_dir = RunDir::new(&out);
-    let mut done: Vec<Prediction> = Vec::new();
-    if run_dir.holds_run() {
-        if !settings.resume {
-            return Err(user_error(format!(
-                "`{}` already holds a run; pass --resume to continue it or choose another --out",
-                out.display()
-            )));
-        }
-        let manifest = run_dir.read_manifest()?;
-        if manifest.identity != identity {
-            return Err(user_error(format!(
-                "`{}` holds a run with different settings or data; --resume continues only the same run (use another --out)",
-                out.display()
-            )));
-        }
-        done = run_dir.read_predictions()?;
+/// The predictions a run directory already holds, when `--resume` continues the same run
+/// (`identity`); none for a new directory. A directory holding a run without `--resume`, or
+/// another run, is refused.
+fn resumed_predictions(
+    run_dir: &RunDir,
+    settings: &RunSettings,
+    identity: &RunIdentity,
+) -> Result<Vec<Prediction>, AppError> {
+    if !run_dir.holds_run() {
+        return Ok(Vec::new());
     }
-    fs_err::create_dir_all(&out).user()?;
-
-    let eval_questions: Vec<EvalQuestion> =
-        questions.iter().map(EvalQuestion::from_question).collect();
-    let unit_order: Vec<String> = eval_questions
-        .iter()
-        .flat_map(EvalQuestion::unit_ids)
-        .collect();
-    let started = unix_ms();
-    let mut manifest = Manifest {
-        tool: "contphy-eval".to_string(),
-        tool_version: env!("CARGO_PKG_VERSION").to_string(),
-        git_revision: option_env!("CONTPHY_GIT_REVISION").map(str::to_string),
-        source: source.describe(),
-        identity,
-        data_root: settings.data.display().to_string(),
-        questions: questions.len(),
-        units: unit_order.len(),
-        skipped_invalid_video_questions: skipped_invalid,
-        started_unix_ms: started,
-        finished_unix_ms: 0,
-        usage: None,
-    };
-    run_dir.write_manifest(&manifest)?;
-    run_dir.write_questions(&RunQuestions {
-        questions: eval_questions.clone(),
-        priors: priors.clone(),
-    })?;
-
-    // Units still to do, with their programs.
-    let finished: BTreeSet<&str> = done.iter().map(|p| p.unit.as_str()).collect();
-    if settings.resume && !finished.is_empty() {
-        let kept = unit_order
-            .iter()
-            .filter(|unit| finished.contains(unit.as_str()))
-            .count();
-        let mut stderr = std::io::stderr().lock();
-        let _ = writeln!(
-            stderr,
-            "resuming: {kept} of {} units already done",
-            unit_order.len()
-        );
+    if !settings.resume {
+        return Err(user_error(format!(
+            "`{}` already holds a run; pass --resume to continue it or choose another --out",
+            run_dir.dir().display()
+        )));
     }
-    let tasks = plan_tasks(&questions, &videos, &finished, &models, settings);
+    let manifest = run_dir.read_manifest()?;
+    if manifest.identity != *identity {
+        return Err(user_error(format!(
+            "`{}` holds a run with different settings or data; --resume continues only the same run (use another --out)",
+            run_dir.dir().display()
+        )));
+    }
+    run_dir.read_predictions()
+}
+
+/// Runs the tasks, appending each prediction to the run directory as its task finishes (with a
+/// progress bar); returns the new predictions.
+fn run_tasks(
+    tasks: &[Task],
+    questions: &[Question],
+    finished: &BTreeSet<&str>,
+    source: &dyn ProgramSource,
+    run_dir: &RunDir,
+    settings: &RunSettings,
+) -> Result<Vec<Prediction>, AppError> {
     let total_units: usize = tasks.iter().map(|t| t.units.len()).sum();
     let progress = Progress::new(total_units as u64, settings.quiet);
     let mut writer = run_dir.prediction_writer()?;
@@ -183,70 +271,38 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
         samples: settings.samples,
         repair: settings.repair,
     };
-    evaluate(
-        &tasks,
-        &questions,
-        source.as_ref(),
-        evaluation,
-        |predictions| {
-            for prediction in predictions {
-                // A resumed per-question task may re-answer units that were already saved.
-                if finished.contains(prediction.unit.as_str()) {
-                    continue;
-                }
-                if prediction.error.is_some() {
-                    failed += 1;
-                }
-                writer.append(&prediction)?;
-                progress.advance(failed);
-                new_predictions.push(prediction);
+    evaluate(tasks, questions, source, evaluation, |predictions| {
+        for prediction in predictions {
+            // A resumed per-question task may re-answer units that were already saved.
+            if finished.contains(prediction.unit.as_str()) {
+                continue;
             }
-            Ok(())
-        },
-    )?;
+            if prediction.error.is_some() {
+                failed += 1;
+            }
+            writer.append(&prediction)?;
+            progress.advance(failed);
+            new_predictions.push(prediction);
+        }
+        Ok(())
+    })?;
     progress.finish();
+    Ok(new_predictions)
+}
 
-    let mut all = done;
-    all.extend(new_predictions);
-    run_dir.rewrite_predictions(&all, &unit_order)?;
-    let predictions = run_dir.read_predictions()?;
-    let scores = score(&eval_questions, &predictions, &priors);
-    run_dir.write_json("results.json", &json!({ "scores": scores }))?;
-    let usage = run_usage(&predictions);
-    let meta = ReportMeta {
-        usage,
-        run_name: out.file_name().map_or_else(
-            || out.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        ),
-        program_source: source.name(),
-        backends: format!(
-            "perception={}, dynamics={}",
-            serde_json::to_value(settings.perception)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default(),
-            serde_json::to_value(settings.dynamics)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default(),
-        ),
-        questions: question_files
-            .iter()
-            .map(|(path, _)| path.as_str())
-            .collect::<Vec<_>>()
-            .join(", "),
+/// `perception=…, dynamics=…` for the report.
+fn backends_line(settings: &RunSettings) -> String {
+    let name = |value: serde_json::Result<serde_json::Value>| {
+        value
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default()
     };
-    let report = render_run_report(&meta, &scores);
-    run_dir.write_text("report.md", &report)?;
-    manifest.finished_unix_ms = unix_ms();
-    manifest.usage = usage;
-    run_dir.write_manifest(&manifest)?;
-
-    let mut stdout = std::io::stdout().lock();
-    let _ = write!(stdout, "{report}");
-    let _ = writeln!(stdout, "\nrun directory: {}", run_dir.dir().display());
-    Ok(ExitCode::SUCCESS)
+    format!(
+        "perception={}, dynamics={}",
+        name(serde_json::to_value(settings.perception)),
+        name(serde_json::to_value(settings.dynamics)),
+    )
 }
 
 /// The core count: sandbox workers never exceed it (`--jobs` above it is LLM concurrency).
