@@ -44,6 +44,56 @@ const ROUNDS: usize = 5;
 
 pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppError> {
     let video = VideoFolder::open(&settings.video, Some(Scenario::Rope)).user()?;
+    let programs = rope_programs(&video)?;
+    let spec = VideoSpec::new(
+        &video,
+        PerceptionBackend::Annotation,
+        DynamicsBackend::Annotation,
+    );
+    let mut stderr = std::io::stderr().lock();
+    let _ = writeln!(
+        stderr,
+        "timing {} distinct rope programs ({ROUNDS} rounds each)...",
+        programs.len()
+    );
+
+    let rope_programs = time_rope_programs(&programs, &spec);
+
+    // Rope units through a worker pool.
+    let _ = writeln!(
+        stderr,
+        "pushing {} rope units through {} workers...",
+        settings.units, settings.jobs
+    );
+    let rope_pool = run_rope_pool(settings, &programs, &spec)?;
+
+    // The sandbox's own measurements.
+    let _ = writeln!(
+        stderr,
+        "sandbox measurements (start-up, small programs, trivial units)..."
+    );
+    let config = BenchConfig {
+        worker: Some(WorkerCommand::current_exe().internal()?),
+        jobs: settings.jobs,
+        pool_units: settings.units,
+        ..BenchConfig::default()
+    };
+    let sandbox_report = sandbox::run_bench(&config).internal()?;
+
+    let report = json!({
+        "benchmark": "sandbox",
+        "profile": if cfg!(debug_assertions) { "debug" } else { "release" },
+        "video": video.dir.display().to_string(),
+        "rope_programs": rope_programs,
+        "rope_pool": rope_pool,
+        "sandbox": sandbox_report,
+    });
+    print_report(&report)
+}
+
+/// Every distinct builtin rope program for the questions generated for `video`, with its
+/// family; an error when none can be written.
+fn rope_programs(video: &VideoFolder) -> Result<Vec<(String, String)>, AppError> {
     let annotation = RopeAnnotation::load(&video.outputs_json()).user()?;
     let generated = generate_questions(&video.id, &annotation, 0).user()?;
     let mut programs: Vec<(String, String)> = Vec::new();
@@ -71,25 +121,20 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
             video.dir.display()
         )));
     }
-    let spec = VideoSpec::new(
-        &video,
-        PerceptionBackend::Annotation,
-        DynamicsBackend::Annotation,
-    );
-    let mut stderr = std::io::stderr().lock();
-    let _ = writeln!(
-        stderr,
-        "timing {} distinct rope programs ({ROUNDS} rounds each)...",
-        programs.len()
-    );
+    Ok(programs)
+}
 
+/// Times every program in-process against the real scene API (best of [`ROUNDS`]) and in
+/// CPython against the stub API; the `rope_programs` section of the report, with medians
+/// per family.
+fn time_rope_programs(programs: &[(String, String)], spec: &VideoSpec) -> Value {
     // RustPython, in-process, real scene API (memoised after the first program).
     let mut sandbox_in_process = sandbox::Sandbox::new();
     let mut host = SceneHost::new(spec.clone());
     let budgets = sandbox::Budgets::default();
     let mut rust_times = Vec::with_capacity(programs.len());
     let mut failures = 0;
-    for (_, source) in &programs {
+    for (_, source) in programs {
         let mut best = Duration::MAX;
         for _ in 0..ROUNDS {
             let started = Instant::now();
@@ -103,7 +148,7 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
     }
 
     // CPython, same program texts, stub API.
-    let cpython = run_cpython(&programs);
+    let cpython = run_cpython(programs);
 
     let mut by_family: BTreeMap<&str, (Vec<Duration>, Vec<Duration>)> = BTreeMap::new();
     for (index, (family, _)) in programs.iter().enumerate() {
@@ -139,13 +184,24 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         }
         Err(message) => json!({ "unavailable": message }),
     };
+    json!({
+        "programs": programs.len(),
+        "rounds": ROUNDS,
+        "failures": failures,
+        "rustpython_in_process": rust_summary,
+        "cpython_stub_api": cpython_json,
+        "by_family": families,
+    })
+}
 
-    // Rope units through a worker pool.
-    let _ = writeln!(
-        stderr,
-        "pushing {} rope units through {} workers...",
-        settings.units, settings.jobs
-    );
+/// Pushes `settings.units` rope units through a pool of `settings.jobs` workers; the
+/// `rope_pool` section of the report: throughput, unit wall times and the projected time of
+/// 10,000 units.
+fn run_rope_pool(
+    settings: &BenchSettings,
+    programs: &[(String, String)],
+    spec: &VideoSpec,
+) -> Result<Value, AppError> {
     let run_budgets = Budgets {
         program_seconds: 5.0,
         api_seconds: 300.0,
@@ -159,7 +215,7 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
             id: index as u64,
             // Spread over as many keys as workers, as a run over several videos would.
             key: format!("video-{}", index % settings.jobs.max(1)),
-            host: scene_host_spec(&spec),
+            host: scene_host_spec(spec),
             source: source.clone(),
             budgets: sandbox_budgets(run_budgets),
         })
@@ -180,44 +236,15 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         0.0
     };
     drop(pool);
-
-    // The sandbox's own measurements.
-    let _ = writeln!(
-        stderr,
-        "sandbox measurements (start-up, small programs, trivial units)..."
-    );
-    let config = BenchConfig {
-        worker: Some(WorkerCommand::current_exe().internal()?),
-        jobs: settings.jobs,
-        pool_units: settings.units,
-        ..BenchConfig::default()
-    };
-    let sandbox_report = sandbox::run_bench(&config).internal()?;
-
-    let report = json!({
-        "benchmark": "sandbox",
-        "profile": if cfg!(debug_assertions) { "debug" } else { "release" },
-        "video": video.dir.display().to_string(),
-        "rope_programs": {
-            "programs": programs.len(),
-            "rounds": ROUNDS,
-            "failures": failures,
-            "rustpython_in_process": rust_summary,
-            "cpython_stub_api": cpython_json,
-            "by_family": families,
-        },
-        "rope_pool": {
-            "jobs": settings.jobs,
-            "units": settings.units,
-            "failures": pool_failures,
-            "seconds": elapsed,
-            "units_per_second": units_per_second,
-            "unit_wall": TimeSummary::of(&unit_walls),
-            "projected_seconds_for_10000_units": if units_per_second > 0.0 { 10_000.0 / units_per_second } else { 0.0 },
-        },
-        "sandbox": sandbox_report,
-    });
-    print_report(&report)
+    Ok(json!({
+        "jobs": settings.jobs,
+        "units": settings.units,
+        "failures": pool_failures,
+        "seconds": elapsed,
+        "units_per_second": units_per_second,
+        "unit_wall": TimeSummary::of(&unit_walls),
+        "projected_seconds_for_10000_units": if units_per_second > 0.0 { 10_000.0 / units_per_second } else { 0.0 },
+    }))
 }
 
 /// Prints a JSON report, pretty, on standard output: every `bench` command (and `perception

@@ -43,6 +43,9 @@ pub const MOCK_MODEL: &str = "mock-model";
 /// Chunk size of streamed large bodies.
 const STREAM_CHUNK_BYTES: usize = 64 * 1024;
 
+/// The body of [`MockReply::Malformed`]: a completion cut off mid-string, so not JSON.
+const MALFORMED_BODY: &str = "{\"choices\": [{\"message\": {\"content\": \"unterminated";
+
 /// What the mock does with one request.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MockReply {
@@ -417,6 +420,8 @@ async fn accept_loop(listener: TcpListener, state: Arc<MockState>) {
 
 type MockBody = BoxBody<Bytes, Infallible>;
 
+/// Serves one request: records it, answers `GET /models` and unknown routes as a real endpoint
+/// would, and chat completions with the next scripted reply (or the responder's).
 async fn handle(
     state: Arc<MockState>,
     request: Request<Incoming>,
@@ -429,6 +434,22 @@ async fn handle(
         .await
         .map_err(std::io::Error::other)?
         .to_bytes();
+    let recorded = record(&state, &parts, &body, received_at);
+    if let Some(response) = route(&state, &parts.method, &recorded) {
+        return Ok(response);
+    }
+    let reply = next_reply(&state, &recorded).await;
+    respond(&state, &recorded, reply).await
+}
+
+/// Records the request (headers lowercase, the `Authorization` value only as a hash) and
+/// returns what was recorded.
+fn record(
+    state: &MockState,
+    parts: &hyper::http::request::Parts,
+    body: &Bytes,
+    received_at: std::time::Instant,
+) -> MockRequest {
     let mut headers = Vec::new();
     let mut authorization_hash = None;
     for (name, value) in &parts.headers {
@@ -447,48 +468,69 @@ async fn handle(
         path: parts.uri.path().to_owned(),
         headers,
         authorization_hash,
-        body: String::from_utf8_lossy(&body).into_owned(),
-        json: serde_json::from_slice(&body).ok(),
+        body: String::from_utf8_lossy(body).into_owned(),
+        json: serde_json::from_slice(body).ok(),
         received_at,
     };
     lock(&state.requests).push(recorded.clone());
+    recorded
+}
 
-    if parts.method == hyper::Method::GET
-        && matches!(recorded.path.as_str(), "/v1/models" | "/models")
-    {
+/// The answer to anything but a chat completion: the model list for `GET /models`, a 404 for a
+/// route a real endpoint does not have; `None` for a chat completion.
+fn route(
+    state: &MockState,
+    method: &hyper::Method,
+    recorded: &MockRequest,
+) -> Option<Response<MockBody>> {
+    if *method == hyper::Method::GET && matches!(recorded.path.as_str(), "/v1/models" | "/models") {
         let data: Vec<Value> = state
             .models
             .iter()
             .map(|id| json!({"id": id, "object": "model", "owned_by": "mock"}))
             .collect();
-        return Ok(json_response(
+        return Some(json_response(
             200,
             &json!({"object": "list", "data": data}).to_string(),
             &[],
         ));
     }
     // The routes of a real endpoint: a base URL with a wrong path gets a 404 as it would there.
-    if parts.method != hyper::Method::POST
+    if *method != hyper::Method::POST
         || !matches!(
             recorded.path.as_str(),
             "/v1/chat/completions" | "/chat/completions"
         )
     {
-        return Ok(json_response(
+        return Some(json_response(
             404,
             &json!({"error": {"message": format!("no route for {} {}", recorded.method, recorded.path), "code": "not_found"}})
                 .to_string(),
             &[],
         ));
     }
+    None
+}
 
+/// The reply to a chat completion: the next scripted one, else the responder's; after the
+/// server's latency and any delays the reply asks for.
+async fn next_reply(state: &MockState, recorded: &MockRequest) -> MockReply {
     let scripted = lock(&state.script).pop_front();
-    let mut reply = scripted.unwrap_or_else(|| (state.responder)(&recorded));
+    let mut reply = scripted.unwrap_or_else(|| (state.responder)(recorded));
     tokio::time::sleep(state.latency).await;
     while let MockReply::Delayed { delay, then } = reply {
         tokio::time::sleep(delay).await;
         reply = *then;
     }
+    reply
+}
+
+/// The response `reply` makes to `recorded`.
+async fn respond(
+    state: &MockState,
+    recorded: &MockRequest,
+    reply: MockReply,
+) -> Result<Response<MockBody>, std::io::Error> {
     match reply {
         MockReply::Ok {
             content,
@@ -527,11 +569,7 @@ async fn handle(
             &json!({"id": "mock", "object": "chat.completion", "choices": []}).to_string(),
             &[],
         )),
-        MockReply::Malformed => Ok(json_response(
-            200,
-            "{\"choices\": [{\"message\": {\"content\": \"unterminated",
-            &[],
-        )),
+        MockReply::Malformed => Ok(json_response(200, MALFORMED_BODY, &[])),
         MockReply::Status {
             status,
             body,

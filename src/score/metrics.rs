@@ -148,60 +148,23 @@ fn add(total: &mut Accumulator, result: &QuestionResult) {
 
 /// Scores `predictions` against `questions`.
 pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Priors) -> Scores {
-    let mut by_unit: HashMap<&str, &Prediction> = HashMap::with_capacity(predictions.len());
-    let mut duplicate_units = 0;
-    for prediction in predictions {
-        // The first prediction of a unit counts; later ones are reported as duplicates.
-        match by_unit.entry(prediction.unit.as_str()) {
-            std::collections::hash_map::Entry::Occupied(_) => duplicate_units += 1,
-            std::collections::hash_map::Entry::Vacant(slot) => {
-                slot.insert(prediction);
-            }
-        }
-    }
-    let mut expected_units = 0_u64;
-    let mut failures: BTreeMap<String, BTreeMap<String, u64>> = BTreeMap::new();
-    let mut units_answered = 0;
-    let mut missing_units = 0;
+    let (by_unit, duplicate_units) = first_predictions(predictions);
+    let mut coverage = Coverage::default();
     let mut categories: BTreeMap<(Scenario, Category), Accumulator> = BTreeMap::new();
     let mut families: BTreeMap<(Scenario, Category, String), Accumulator> = BTreeMap::new();
 
     // Gold answers per family, for RND's answer spaces.
-    let mut gold_answers: BTreeMap<String, Vec<&str>> = BTreeMap::new();
-    for question in questions.iter().filter(|q| q.options.is_empty()) {
-        gold_answers
-            .entry(family_key(question.scenario, &question.family))
-            .or_default()
-            .push(&question.answer);
-    }
+    let gold_answers = gold_answers(questions);
 
     for question in questions {
         let key = family_key(question.scenario, &question.family);
         let unit_ids = question.unit_ids();
-        expected_units += unit_ids.len() as u64;
+        coverage.expected_units += unit_ids.len() as u64;
         let unit_predictions: Vec<Option<&Prediction>> = unit_ids
             .iter()
             .map(|id| by_unit.get(id.as_str()).copied())
             .collect();
-        let mut failed = Vec::new();
-        let mut missing = 0;
-        for prediction in &unit_predictions {
-            match prediction {
-                None => missing += 1,
-                Some(p) => match &p.error {
-                    Some(error) => {
-                        failed.push(error.stage.name().to_string());
-                        *failures
-                            .entry(error.stage.name().to_string())
-                            .or_default()
-                            .entry(error.kind.clone())
-                            .or_insert(0) += 1;
-                    }
-                    None => units_answered += 1,
-                },
-            }
-        }
-        missing_units += missing;
+        let (failed, missing) = coverage.count(&unit_predictions);
         let correct: Vec<bool> = unit_predictions
             .iter()
             .map(|p| p.is_some_and(|p| p.correct && p.error.is_none()))
@@ -215,45 +178,9 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
             options_correct,
         };
         let (rnd, frq) = if question.options.is_empty() {
-            let evaluated = gold_answers.get(&key).into_iter().flatten().copied();
-            let space = priors.answer_space(&key, evaluated).len().max(1) as f64;
-            let rnd = ExpectedTally {
-                questions: 1,
-                questions_correct: 1.0 / space,
-                options: 1,
-                options_correct: 1.0 / space,
-            };
-            let frq = priors.frequent_answer(&key).map(|answer| {
-                let hit = u64::from(answer == question.answer);
-                Tally {
-                    questions: 1,
-                    questions_correct: hit,
-                    options: 1,
-                    options_correct: hit,
-                }
-            });
-            (rnd, frq)
+            open_baselines(question, &key, &gold_answers, priors)
         } else {
-            let rnd = ExpectedTally {
-                questions: 1,
-                questions_correct: 0.5_f64.powi(i32::try_from(options).unwrap_or(i32::MAX)),
-                options,
-                options_correct: options as f64 / 2.0,
-            };
-            let frq = priors.frequent_option_truth(&key).map(|truth| {
-                let hits = question
-                    .options
-                    .iter()
-                    .filter(|o| o.correct == truth)
-                    .count() as u64;
-                Tally {
-                    questions: 1,
-                    questions_correct: u64::from(hits == options),
-                    options,
-                    options_correct: hits,
-                }
-            });
-            (rnd, frq)
+            option_baselines(question, &key, options, priors)
         };
         let result = QuestionResult {
             model,
@@ -294,13 +221,141 @@ pub fn score(questions: &[EvalQuestion], predictions: &[Prediction], priors: &Pr
             .into_iter()
             .map(|((s, c, f), acc)| acc.finish(s, c, Some(f)))
             .collect(),
-        units: expected_units,
-        units_answered,
-        failures,
-        missing_units,
+        units: coverage.expected_units,
+        units_answered: coverage.units_answered,
+        failures: coverage.failures,
+        missing_units: coverage.missing_units,
         unknown_units,
         duplicate_units,
     }
+}
+
+/// The first prediction of each unit, and how many later ones were duplicates.
+fn first_predictions(predictions: &[Prediction]) -> (HashMap<&str, &Prediction>, u64) {
+    let mut by_unit: HashMap<&str, &Prediction> = HashMap::with_capacity(predictions.len());
+    let mut duplicate_units = 0_u64;
+    for prediction in predictions {
+        // The first prediction of a unit counts; later ones are reported as duplicates.
+        match by_unit.entry(prediction.unit.as_str()) {
+            std::collections::hash_map::Entry::Occupied(_) => duplicate_units += 1,
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                slot.insert(prediction);
+            }
+        }
+    }
+    (by_unit, duplicate_units)
+}
+
+/// The gold answers of the open-ended questions, per family.
+fn gold_answers(questions: &[EvalQuestion]) -> BTreeMap<String, Vec<&str>> {
+    let mut gold_answers: BTreeMap<String, Vec<&str>> = BTreeMap::new();
+    for question in questions.iter().filter(|q| q.options.is_empty()) {
+        gold_answers
+            .entry(family_key(question.scenario, &question.family))
+            .or_default()
+            .push(&question.answer);
+    }
+    gold_answers
+}
+
+/// Unit counts over all questions.
+#[derive(Default)]
+struct Coverage {
+    /// Units the questions ask for.
+    expected_units: u64,
+    /// Units whose program produced an answer.
+    units_answered: u64,
+    /// Units without a prediction.
+    missing_units: u64,
+    /// Failed units by stage, then kind.
+    failures: BTreeMap<String, BTreeMap<String, u64>>,
+}
+
+impl Coverage {
+    /// Counts one question's unit predictions (answered, failed by stage and kind, missing);
+    /// returns the stages its units failed at and how many units have no prediction.
+    fn count(&mut self, unit_predictions: &[Option<&Prediction>]) -> (Vec<String>, u64) {
+        let mut failed = Vec::new();
+        let mut missing = 0_u64;
+        for prediction in unit_predictions {
+            match prediction {
+                None => missing += 1,
+                Some(p) => match &p.error {
+                    Some(error) => {
+                        failed.push(error.stage.name().to_string());
+                        *self
+                            .failures
+                            .entry(error.stage.name().to_string())
+                            .or_default()
+                            .entry(error.kind.clone())
+                            .or_insert(0) += 1;
+                    }
+                    None => self.units_answered += 1,
+                },
+            }
+        }
+        self.missing_units += missing;
+        (failed, missing)
+    }
+}
+
+/// The baselines of an open-ended question: RND picks uniformly from its family's answer space,
+/// FRQ gives the family's most frequent train answer (`None` without a prior).
+fn open_baselines(
+    question: &EvalQuestion,
+    key: &str,
+    gold_answers: &BTreeMap<String, Vec<&str>>,
+    priors: &Priors,
+) -> (ExpectedTally, Option<Tally>) {
+    let evaluated = gold_answers.get(key).into_iter().flatten().copied();
+    let space = priors.answer_space(key, evaluated).len().max(1) as f64;
+    let rnd = ExpectedTally {
+        questions: 1,
+        questions_correct: 1.0 / space,
+        options: 1,
+        options_correct: 1.0 / space,
+    };
+    let frq = priors.frequent_answer(key).map(|answer| {
+        let hit = u64::from(answer == question.answer);
+        Tally {
+            questions: 1,
+            questions_correct: hit,
+            options: 1,
+            options_correct: hit,
+        }
+    });
+    (rnd, frq)
+}
+
+/// The baselines of a question with `options` options: RND guesses each option's truth with
+/// probability ½, FRQ answers every option with its family's most frequent train truth (`None`
+/// without a prior).
+fn option_baselines(
+    question: &EvalQuestion,
+    key: &str,
+    options: u64,
+    priors: &Priors,
+) -> (ExpectedTally, Option<Tally>) {
+    let rnd = ExpectedTally {
+        questions: 1,
+        questions_correct: 0.5_f64.powi(i32::try_from(options).unwrap_or(i32::MAX)),
+        options,
+        options_correct: options as f64 / 2.0,
+    };
+    let frq = priors.frequent_option_truth(key).map(|truth| {
+        let hits = question
+            .options
+            .iter()
+            .filter(|o| o.correct == truth)
+            .count() as u64;
+        Tally {
+            questions: 1,
+            questions_correct: u64::from(hits == options),
+            options,
+            options_correct: hits,
+        }
+    });
+    (rnd, frq)
 }
 
 #[cfg(test)]

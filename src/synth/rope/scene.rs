@@ -470,15 +470,25 @@ impl RopeScene {
     /// `outputs4D.json`: rigid bodies (pulleys, shafts, loads, fixed points) with per-frame
     /// poses, first-frame meshes and voxels; ropes with tracked particles and meshes per frame.
     pub fn four_d(&self, model: &TruthModel, frames: &[FrameState]) -> Value {
+        let Some(first) = frames.first() else {
+            return json!({});
+        };
+        json!({
+            "rigidbody4D": self.rigid_four_d(model, frames, first),
+            "softbody4D": Self::soft_four_d(model, frames),
+        })
+    }
+
+    /// `rigidbody4D`: per rigid body (pulleys and the shafts of static ones, loads, fixed
+    /// points) whether it is static, its per-frame centroid and rotation, its first-frame mesh
+    /// and its voxels; `first` is the first of `frames`.
+    fn rigid_four_d(&self, model: &TruthModel, frames: &[FrameState], first: &FrameState) -> Value {
         let p = &self.prefabs;
         let mut staticity = serde_json::Map::new();
         let mut centroids = serde_json::Map::new();
         let mut vertices = serde_json::Map::new();
         let mut faces = serde_json::Map::new();
         let mut voxels = serde_json::Map::new();
-        let Some(first) = frames.first() else {
-            return json!({});
-        };
         let mut rigid = |name: String,
                          is_static: bool,
                          mesh: &Mesh,
@@ -574,6 +584,18 @@ impl RopeScene {
                 Shape::Box([1.425, 0.7, 0.425]),
             );
         }
+        json!({
+            "rigidbodyStatesStaticity": staticity,
+            "rigidbodyCentroidStates": centroids,
+            "rigidbodyMeshVertices": vertices,
+            "rigidbodyMeshFaces": faces,
+            "rigidbodyVoxelPosition": voxels,
+        })
+    }
+
+    /// `softbody4D`: per rope, its tracked particles (evenly spaced along its first-frame
+    /// length) and its tube mesh, frame by frame.
+    fn soft_four_d(model: &TruthModel, frames: &[FrameState]) -> Value {
         let mut particles = serde_json::Map::new();
         let mut soft_vertices = serde_json::Map::new();
         let mut soft_faces = serde_json::Map::new();
@@ -611,18 +633,9 @@ impl RopeScene {
             soft_faces.insert(name.clone(), json!(mesh_faces));
         }
         json!({
-            "rigidbody4D": {
-                "rigidbodyStatesStaticity": staticity,
-                "rigidbodyCentroidStates": centroids,
-                "rigidbodyMeshVertices": vertices,
-                "rigidbodyMeshFaces": faces,
-                "rigidbodyVoxelPosition": voxels,
-            },
-            "softbody4D": {
-                "softbodyTrackedParticles": particles,
-                "softbodyMeshVertices": soft_vertices,
-                "softbodyMeshFaces": soft_faces,
-            },
+            "softbodyTrackedParticles": particles,
+            "softbodyMeshVertices": soft_vertices,
+            "softbodyMeshFaces": soft_faces,
         })
     }
 }

@@ -13,7 +13,7 @@
 
 use indexmap::IndexMap;
 
-use super::layout::{ElementKind, Layout};
+use super::layout::{ElementKind, Layout, LayoutRope};
 use crate::dataset::rope_world as world;
 use crate::physics::rope::{
     Body, Drive, DrivenPoint, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError,
@@ -130,15 +130,36 @@ pub fn build_truth(layout: &Layout) -> Result<TruthModel, SimulationError> {
             .map(|(_, multiplier)| world::BASELINE_MASS_KG * multiplier)
             .collect(),
     };
-    let load_index =
-        |name: &str| -> Option<usize> { layout.loads.iter().position(|(n, _)| n == name) };
     // Pulleys first, so ends tied to any pulley can find it.
+    add_pulleys(&mut model, layout);
+    for rope in &layout.ropes {
+        add_rope(&mut model, layout, rope)?;
+        add_hanging_loads(&mut model, layout, rope)?;
+    }
+    add_cables(&mut model, layout)?;
+    if model.load_bodies.contains(&usize::MAX) {
+        return Err(missing("a load"));
+    }
+    for (load, &body) in model.load_bodies.iter().enumerate() {
+        model.network.bodies[body].mass = model.baseline_kg[load];
+    }
+    Ok(model)
+}
+
+/// The index of load `name` in `Layout::loads`.
+fn load_index(layout: &Layout, name: &str) -> Option<usize> {
+    layout.loads.iter().position(|(n, _)| n == name)
+}
+
+/// Adds every pulley of the layout: static ones at their positions, movable ones on a body of
+/// their own, with the release's radii, inertias and bearing friction.
+fn add_pulleys(model: &mut TruthModel, layout: &Layout) {
     for rope in &layout.ropes {
         for element in rope.path.iter().filter(|e| e.is_pulley()) {
             let radius = world::wrap_radius(element.solid);
             let mount = if element.kind == ElementKind::MovablePulley {
                 let body = add_body(
-                    &mut model,
+                    model,
                     &element.name,
                     world::MOVABLE_PULLEY_KG,
                     element.position,
@@ -175,102 +196,135 @@ pub fn build_truth(layout: &Layout) -> Result<TruthModel, SimulationError> {
             model.solid.push(element.solid);
         }
     }
-    for rope in &layout.ropes {
-        let last = rope.path.len() - 1;
-        let mut path = Vec::with_capacity(rope.path.len());
-        let mut names = Vec::with_capacity(rope.path.len());
-        let mut turns = Vec::new();
-        for (index, element) in rope.path.iter().enumerate() {
-            let point = match element.kind {
-                ElementKind::StaticPulley | ElementKind::MovablePulley => {
-                    let pulley = model.pulleys[&element.name];
-                    Point::Pulley(pulley)
-                }
-                ElementKind::FixedPoint(ceiling) => {
-                    model
-                        .anchors
-                        .push((element.name.clone(), element.position, ceiling));
-                    Point::Fixed(anchor_attachment(element.position))
-                }
-                ElementKind::Load => {
-                    // The load hangs straight under the rim of its pulley, on the side the layout
-                    // puts it.
-                    let neighbour = if index == 0 {
-                        &rope.path[1]
-                    } else {
-                        &rope.path[last - 1]
-                    };
-                    let side = (element.position[0] - neighbour.position[0]).signum();
-                    let x = neighbour.position[0] + side * world::wrap_radius(neighbour.solid);
-                    let load = load_index(&element.name).ok_or_else(|| missing(&element.name))?;
-                    let body = add_body(
-                        &mut model,
-                        &element.name,
-                        world::BASELINE_MASS_KG,
-                        [x, element.position[1]],
-                        Some(world::LOAD_HALF_HEIGHT),
-                        BodyRole::Load(load),
-                    );
-                    model.load_bodies[load] = body;
-                    Point::Body(body)
-                }
-                ElementKind::TiedToPulley => {
-                    let target = layout
-                        .ropes
-                        .iter()
-                        .flat_map(|r| r.path.iter())
-                        .find(|e| {
-                            e.is_pulley()
-                                && element.target.is_some_and(|(x, y)| e.grid == Some((y, x)))
-                        })
-                        .ok_or_else(|| missing("the pulley a rope end is tied to"))?;
-                    Point::Pulley(model.pulleys[&target.name])
-                }
+}
+
+/// Adds a main cable: its path's points (creating the end loads' bodies and the fixed points)
+/// and how it turns round its pulleys.
+fn add_rope(
+    model: &mut TruthModel,
+    layout: &Layout,
+    rope: &LayoutRope,
+) -> Result<(), SimulationError> {
+    let last = rope.path.len() - 1;
+    let mut path = Vec::with_capacity(rope.path.len());
+    let mut names = Vec::with_capacity(rope.path.len());
+    let mut turns = Vec::new();
+    for (index, element) in rope.path.iter().enumerate() {
+        let point = rope_point(model, layout, rope, index)?;
+        if element.is_pulley() && index > 0 && index < last {
+            turns.push((index, orientation(rope, index)));
+        }
+        path.push(point);
+        names.push(element.name.clone());
+    }
+    let rope_index = model.network.ropes.len();
+    for (position, turn) in turns {
+        model.network.turns.push((rope_index, position, turn));
+    }
+    model.network.ropes.push(Rope {
+        name: rope.name.clone(),
+        path,
+    });
+    model.ropes.push(rope.name.clone());
+    model.rope_elements.push(names);
+    Ok(())
+}
+
+/// The network point of element `index` of `rope`, adding the body of an end load and the
+/// anchor of a fixed point to `model`.
+fn rope_point(
+    model: &mut TruthModel,
+    layout: &Layout,
+    rope: &LayoutRope,
+    index: usize,
+) -> Result<Point, SimulationError> {
+    let element = &rope.path[index];
+    let last = rope.path.len() - 1;
+    Ok(match element.kind {
+        ElementKind::StaticPulley | ElementKind::MovablePulley => {
+            let pulley = model.pulleys[&element.name];
+            Point::Pulley(pulley)
+        }
+        ElementKind::FixedPoint(ceiling) => {
+            model
+                .anchors
+                .push((element.name.clone(), element.position, ceiling));
+            Point::Fixed(anchor_attachment(element.position))
+        }
+        ElementKind::Load => {
+            // The load hangs straight under the rim of its pulley, on the side the layout
+            // puts it.
+            let neighbour = if index == 0 {
+                &rope.path[1]
+            } else {
+                &rope.path[last - 1]
             };
-            if element.is_pulley() && index > 0 && index < last {
-                turns.push((index, orientation(rope, index)));
-            }
-            path.push(point);
-            names.push(element.name.clone());
+            let side = (element.position[0] - neighbour.position[0]).signum();
+            let x = neighbour.position[0] + side * world::wrap_radius(neighbour.solid);
+            let load = load_index(layout, &element.name).ok_or_else(|| missing(&element.name))?;
+            let body = add_body(
+                model,
+                &element.name,
+                world::BASELINE_MASS_KG,
+                [x, element.position[1]],
+                Some(world::LOAD_HALF_HEIGHT),
+                BodyRole::Load(load),
+            );
+            model.load_bodies[load] = body;
+            Point::Body(body)
         }
-        let rope_index = model.network.ropes.len();
-        for (position, turn) in turns {
-            model.network.turns.push((rope_index, position, turn));
+        ElementKind::TiedToPulley => {
+            let target = layout
+                .ropes
+                .iter()
+                .flat_map(|r| r.path.iter())
+                .find(|e| {
+                    e.is_pulley() && element.target.is_some_and(|(x, y)| e.grid == Some((y, x)))
+                })
+                .ok_or_else(|| missing("the pulley a rope end is tied to"))?;
+            Point::Pulley(model.pulleys[&target.name])
         }
-        model.network.ropes.push(Rope {
-            name: rope.name.clone(),
-            path,
-        });
-        model.ropes.push(rope.name.clone());
-        model.rope_elements.push(names);
-        // The load hanging under each movable pulley, on its own rope from the pulley's axle.
-        for element in &rope.path {
-            if let Some((load_name, connection)) = &element.hanging {
-                let load = load_index(load_name).ok_or_else(|| missing(load_name))?;
-                let below = [element.position[0], element.position[1] - 4.0];
-                let body = add_body(
-                    &mut model,
-                    load_name,
-                    world::BASELINE_MASS_KG,
-                    below,
-                    Some(world::LOAD_HALF_HEIGHT),
-                    BodyRole::Load(load),
-                );
-                model.load_bodies[load] = body;
-                model.network.ropes.push(Rope {
-                    name: connection.clone(),
-                    path: vec![
-                        Point::Pulley(model.pulleys[&element.name]),
-                        Point::Body(body),
-                    ],
-                });
-                model.ropes.push(connection.clone());
-                model
-                    .rope_elements
-                    .push(vec![element.name.clone(), load_name.clone()]);
-            }
+    })
+}
+
+/// The load hanging under each movable pulley of `rope`, on its own rope from the pulley's
+/// axle.
+fn add_hanging_loads(
+    model: &mut TruthModel,
+    layout: &Layout,
+    rope: &LayoutRope,
+) -> Result<(), SimulationError> {
+    for element in &rope.path {
+        if let Some((load_name, connection)) = &element.hanging {
+            let load = load_index(layout, load_name).ok_or_else(|| missing(load_name))?;
+            let below = [element.position[0], element.position[1] - 4.0];
+            let body = add_body(
+                model,
+                load_name,
+                world::BASELINE_MASS_KG,
+                below,
+                Some(world::LOAD_HALF_HEIGHT),
+                BodyRole::Load(load),
+            );
+            model.load_bodies[load] = body;
+            model.network.ropes.push(Rope {
+                name: connection.clone(),
+                path: vec![
+                    Point::Pulley(model.pulleys[&element.name]),
+                    Point::Body(body),
+                ],
+            });
+            model.ropes.push(connection.clone());
+            model
+                .rope_elements
+                .push(vec![element.name.clone(), load_name.clone()]);
         }
     }
+    Ok(())
+}
+
+/// Adds the pulley–pulley cables, each from the upper pulley's axle to the lower one's.
+fn add_cables(model: &mut TruthModel, layout: &Layout) -> Result<(), SimulationError> {
     for cable in &layout.cables {
         let (Some(&upper), Some(&lower)) = (
             model.pulleys.get(&cable.upper),
@@ -287,13 +341,7 @@ pub fn build_truth(layout: &Layout) -> Result<TruthModel, SimulationError> {
             .rope_elements
             .push(vec![cable.upper.clone(), cable.lower.clone()]);
     }
-    if model.load_bodies.contains(&usize::MAX) {
-        return Err(missing("a load"));
-    }
-    for (load, &body) in model.load_bodies.iter().enumerate() {
-        model.network.bodies[body].mass = model.baseline_kg[load];
-    }
-    Ok(model)
+    Ok(())
 }
 
 fn missing(what: &str) -> SimulationError {
@@ -331,7 +379,7 @@ pub fn anchor_attachment(centre: [f64; 2]) -> [f64; 2] {
 
 /// The release's wrap rule (`FixOrientation`): counter-clockwise when layer parity and row
 /// parity differ, flipped for a lower first or last pulley next to a load or a tied end.
-fn orientation(rope: &super::layout::LayoutRope, index: usize) -> Turn {
+fn orientation(rope: &LayoutRope, index: usize) -> Turn {
     let element = &rope.path[index];
     let layer = element.grid.map_or(0, |(layer, _)| layer);
     let layer_sign = if layer.rem_euclid(2) == 0 { 1 } else { -1 };
@@ -378,22 +426,7 @@ pub fn run(
         }
     }
     if check_validity {
-        for (index, role) in model.roles.iter().enumerate() {
-            let drift = (state.y[index] - start.y[index]).abs();
-            if *role == BodyRole::MovablePulley && drift > STABILITY_DRIFT {
-                invalid = Some(format!(
-                    "movable pulley `{}` drifted {drift:.2} units before the change",
-                    model.network.bodies[index].name
-                ));
-            }
-            if state.v[index].abs() > STABILITY_SPEED {
-                invalid = Some(format!(
-                    "`{}` moved at {:.2} units/s before the change",
-                    model.network.bodies[index].name,
-                    state.v[index].abs()
-                ));
-            }
-        }
+        invalid = unstable(model, &state, &start);
     }
     if invalid.is_some() {
         // The release discards the trial; nothing after the change matters.
@@ -407,6 +440,68 @@ pub fn run(
         });
     }
     let tensions_at_change = state.tensions.clone();
+    let (network, moved) = changed_network(model, change, state.time)?;
+    let after = Mechanism::new(network)?;
+    let at_change = state.clone();
+    let mut latches = Latches::new(&state, invalid);
+    let mut frames = Vec::with_capacity(record);
+    for update in 0..=updates_after {
+        if update > 0 {
+            for _ in 0..SUBSTEPS_PER_UPDATE {
+                after.step(&mut state, dt)?;
+                steps += 1;
+            }
+            latches.observe(model, &state, &at_change, check_validity);
+            if latches.invalid.is_some() {
+                break;
+            }
+        }
+        if update % 2 == 0 && frames.len() < record {
+            frames.push(frame_state(model, &after, &state));
+        }
+    }
+    let mut result = RunResult {
+        motion: IndexMap::new(),
+        rotation: IndexMap::new(),
+        tensions_at_change,
+        frames,
+        invalid: latches.invalid.take(),
+        steps,
+    };
+    latches.report(&mut result, model, moved.as_ref(), mirrored);
+    Ok(result)
+}
+
+/// The release's stability check before the change: the last movable pulley that drifted too
+/// far or body that moved too fast, if any.
+fn unstable(model: &TruthModel, state: &State, start: &State) -> Option<String> {
+    let mut invalid = None;
+    for (index, role) in model.roles.iter().enumerate() {
+        let drift = (state.y[index] - start.y[index]).abs();
+        if *role == BodyRole::MovablePulley && drift > STABILITY_DRIFT {
+            invalid = Some(format!(
+                "movable pulley `{}` drifted {drift:.2} units before the change",
+                model.network.bodies[index].name
+            ));
+        }
+        if state.v[index].abs() > STABILITY_SPEED {
+            invalid = Some(format!(
+                "`{}` moved at {:.2} units/s before the change",
+                model.network.bodies[index].name,
+                state.v[index].abs()
+            ));
+        }
+    }
+    invalid
+}
+
+/// The network after the change at `time` (s): loads with their new masses, or a static pulley
+/// or fixed point driven up or down; with the pulled agent and its velocity.
+fn changed_network(
+    model: &TruthModel,
+    change: &Change,
+    time: f64,
+) -> Result<(Network, Option<(String, f64)>), SimulationError> {
     let mut network = model.network.clone();
     let mut moved: Option<(String, f64)> = None;
     match change {
@@ -436,92 +531,113 @@ pub fn run(
             network.drives.push(Drive {
                 point,
                 velocity,
-                start: state.time,
+                start: time,
                 distance,
             });
             moved = Some((agent.clone(), velocity));
         }
     }
-    let after = Mechanism::new(network)?;
-    let at_change = state.clone();
-    let mut motion_latch: IndexMap<usize, i8> = IndexMap::new();
-    let mut rotation_latch: IndexMap<usize, i8> = IndexMap::new();
-    let mut frames = Vec::with_capacity(record);
-    let threshold = world::ROTATION_THRESHOLD_DEG.to_radians();
-    let mut previous_angles = state.angles.clone();
-    for update in 0..=updates_after {
-        if update > 0 {
-            for _ in 0..SUBSTEPS_PER_UPDATE {
-                after.step(&mut state, dt)?;
-                steps += 1;
-            }
-            for (index, y) in state.y.iter().enumerate() {
-                let delta = y - at_change.y[index];
-                if delta.abs() > world::MOTION_THRESHOLD {
-                    motion_latch.entry(index).or_insert(sign(delta));
-                }
-            }
-            for (index, angle) in state.angles.iter().enumerate() {
-                let delta = angle - at_change.angles[index];
-                if delta.abs() > threshold {
-                    rotation_latch.entry(index).or_insert(sign(delta));
-                }
-                let speed = (angle - previous_angles[index]).abs() / world::UPDATE_SECONDS;
-                if check_validity && speed > MAX_ANGULAR_SPEED && invalid.is_none() {
-                    invalid = Some(format!(
-                        "pulley `{}` turned at {speed:.1} rad/s",
-                        model.network.pulleys[index].name
-                    ));
-                }
-            }
-            previous_angles.clone_from(&state.angles);
-            if invalid.is_some() {
-                break;
-            }
-        }
-        if update % 2 == 0 && frames.len() < record {
-            frames.push(frame_state(model, &after, &state));
+    Ok((network, moved))
+}
+
+/// What a run latches after the change: each body's and pulley's sign at its first threshold
+/// crossing, and the first pulley too fast for a valid trial.
+struct Latches {
+    /// Body index → sign of its first move past the motion threshold.
+    motion: IndexMap<usize, i8>,
+    /// Pulley index → sign of its first turn past the rotation threshold.
+    rotation: IndexMap<usize, i8>,
+    /// The rotation threshold, rad.
+    threshold: f64,
+    /// Pulley angles at the previous update.
+    previous_angles: Vec<f64>,
+    /// Why the trial is invalid, if it is.
+    invalid: Option<String>,
+}
+
+impl Latches {
+    /// Nothing latched yet, from the state at the change.
+    fn new(state: &State, invalid: Option<String>) -> Latches {
+        Latches {
+            motion: IndexMap::new(),
+            rotation: IndexMap::new(),
+            threshold: world::ROTATION_THRESHOLD_DEG.to_radians(),
+            previous_angles: state.angles.clone(),
+            invalid,
         }
     }
-    let mut result = RunResult {
-        motion: IndexMap::new(),
-        rotation: IndexMap::new(),
-        tensions_at_change,
-        frames,
-        invalid,
-        steps,
-    };
-    // The release lists pulleys (rope order), then the other bodies and fixed points.
-    let moved_sign = |name: &str| -> i8 {
-        moved
-            .as_ref()
-            .filter(|(agent, _)| agent == name)
-            .map_or(0, |(_, velocity)| sign(*velocity))
-    };
-    for (name, &pulley) in &model.pulleys {
-        let motion = match model.network.pulleys[pulley].mount {
-            Mount::Body(body) => motion_latch.get(&body).copied().unwrap_or(0),
-            Mount::Fixed(_) => moved_sign(name),
+
+    /// Latches the motion and rotation of `state` against `at_change`, and with
+    /// `check_validity` notes a pulley turning faster than a valid trial allows.
+    fn observe(
+        &mut self,
+        model: &TruthModel,
+        state: &State,
+        at_change: &State,
+        check_validity: bool,
+    ) {
+        for (index, y) in state.y.iter().enumerate() {
+            let delta = y - at_change.y[index];
+            if delta.abs() > world::MOTION_THRESHOLD {
+                self.motion.entry(index).or_insert(sign(delta));
+            }
+        }
+        for (index, angle) in state.angles.iter().enumerate() {
+            let delta = angle - at_change.angles[index];
+            if delta.abs() > self.threshold {
+                self.rotation.entry(index).or_insert(sign(delta));
+            }
+            let speed = (angle - self.previous_angles[index]).abs() / world::UPDATE_SECONDS;
+            if check_validity && speed > MAX_ANGULAR_SPEED && self.invalid.is_none() {
+                self.invalid = Some(format!(
+                    "pulley `{}` turned at {speed:.1} rad/s",
+                    model.network.pulleys[index].name
+                ));
+            }
+        }
+        self.previous_angles.clone_from(&state.angles);
+    }
+
+    /// Writes the latched signs into `result` by name: pulleys (rope order; a static pulley
+    /// moves only when `moved` pulls it, and `mirrored` cameras see rotations reversed), then
+    /// the other bodies and fixed points.
+    fn report(
+        &self,
+        result: &mut RunResult,
+        model: &TruthModel,
+        moved: Option<&(String, f64)>,
+        mirrored: bool,
+    ) {
+        // The release lists pulleys (rope order), then the other bodies and fixed points.
+        let moved_sign = |name: &str| -> i8 {
+            moved
+                .filter(|(agent, _)| agent == name)
+                .map_or(0, |(_, velocity)| sign(*velocity))
         };
-        result.motion.insert(name.clone(), motion);
-        let turned = rotation_latch.get(&pulley).copied().unwrap_or(0);
-        // Counter-clockwise is positive in the simulation; a mirrored camera (at −z) sees the
-        // simulation's orientation, the other one sees it reversed.
-        result
-            .rotation
-            .insert(name.clone(), if mirrored { -turned } else { turned });
-    }
-    for (name, &body) in &model.bodies {
-        if model.roles[body] != BodyRole::MovablePulley {
+        for (name, &pulley) in &model.pulleys {
+            let motion = match model.network.pulleys[pulley].mount {
+                Mount::Body(body) => self.motion.get(&body).copied().unwrap_or(0),
+                Mount::Fixed(_) => moved_sign(name),
+            };
+            result.motion.insert(name.clone(), motion);
+            let turned = self.rotation.get(&pulley).copied().unwrap_or(0);
+            // Counter-clockwise is positive in the simulation; a mirrored camera (at −z) sees the
+            // simulation's orientation, the other one sees it reversed.
             result
-                .motion
-                .insert(name.clone(), motion_latch.get(&body).copied().unwrap_or(0));
+                .rotation
+                .insert(name.clone(), if mirrored { -turned } else { turned });
+        }
+        for (name, &body) in &model.bodies {
+            if model.roles[body] != BodyRole::MovablePulley {
+                result
+                    .motion
+                    .insert(name.clone(), self.motion.get(&body).copied().unwrap_or(0));
+            }
+        }
+        for (name, _, _) in &model.anchors {
+            result.motion.insert(name.clone(), moved_sign(name));
         }
     }
-    for (name, _, _) in &model.anchors {
-        result.motion.insert(name.clone(), moved_sign(name));
-    }
-    Ok(result)
 }
 
 fn sign(value: f64) -> i8 {
