@@ -9,10 +9,12 @@
 //!
 //! * the sandbox's own measurements (interpreter start-up, small programs, pool throughput on
 //!   trivial units, worker start), from `sandbox::run_bench`;
-//! * every builtin rope program for the video's generated questions, timed in-process against
-//!   the real scene API, next to CPython (`python3`) running the same program text against a stub
-//!   API in the same run, best of several rounds each; the ratio of medians is reported;
-//! * rope units through a worker pool: units per second and the projected time of 10,000 units.
+//! * every builtin program for the video's generated questions (the video's scenario's engine
+//!   and writer, from the scenario table), timed in-process against the real scene API, next to
+//!   CPython (`python3`) running the same program text against a stub API in the same run, best
+//!   of several rounds each; the ratio of medians is reported;
+//! * the video's units through a worker pool: units per second and the projected time of
+//!   10,000 units.
 
 use std::collections::BTreeMap;
 use std::io::Write as _;
@@ -24,13 +26,12 @@ use serde_json::{Value, json};
 use super::error::{AppError, Classify as _, user_error};
 use super::pipeline::{sandbox_budgets, start_pool};
 use super::settings::{BenchLlmSettings, BenchSettings, Budgets};
-use crate::dataset::engine::rope::generate_questions;
-use crate::dataset::rope::RopeAnnotation;
-use crate::dataset::{Question, QuestionId, Scenario, VideoFolder, VideoId};
-use crate::program::builtin::{rope, write_program};
+use crate::dataset::{Question, QuestionId, VideoFolder, VideoId};
+use crate::program::builtin::write_program;
 use crate::sandbox::{
     self, BenchConfig, SceneHost, TimeSummary, Unit, WorkerCommand, scene_host_spec,
 };
+use crate::scenarios;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend, VideoSpec};
 
 /// The CPython peer of `bench llm`.
@@ -43,8 +44,18 @@ const CPYTHON_STUB: &str = include_str!("../../benches/cpython_stub_api.py");
 const ROUNDS: usize = 5;
 
 pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppError> {
-    let video = VideoFolder::open(&settings.video, Some(Scenario::Rope)).user()?;
-    let programs = rope_programs(&video)?;
+    let video_dir = match &settings.video {
+        Some(dir) => dir.clone(),
+        None => scenarios::all()
+            .iter()
+            .find_map(|row| row.demo)
+            .map(std::path::PathBuf::from)
+            .ok_or_else(|| {
+                user_error("bench sandbox: pass --video (no scenario has a demo video)")
+            })?,
+    };
+    let video = VideoFolder::open(&video_dir, None).user()?;
+    let programs = builtin_programs(&video)?;
     let spec = VideoSpec::new(
         &video,
         PerceptionBackend::Annotation,
@@ -53,19 +64,20 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
     let mut stderr = std::io::stderr().lock();
     let _ = writeln!(
         stderr,
-        "timing {} distinct rope programs ({ROUNDS} rounds each)...",
-        programs.len()
+        "timing {} distinct {} programs ({ROUNDS} rounds each)...",
+        programs.len(),
+        video.scenario
     );
 
-    let rope_programs = time_rope_programs(&programs, &spec);
+    let timed_programs = time_programs(&programs, &spec);
 
-    // Rope units through a worker pool.
+    // The video's units through a worker pool.
     let _ = writeln!(
         stderr,
-        "pushing {} rope units through {} workers...",
-        settings.units, settings.jobs
+        "pushing {} {} units through {} workers...",
+        settings.units, video.scenario, settings.jobs
     );
-    let rope_pool = run_rope_pool(settings, &programs, &spec)?;
+    let pool = run_pool(settings, &programs, &spec)?;
 
     // The sandbox's own measurements.
     let _ = writeln!(
@@ -84,30 +96,38 @@ pub(crate) fn bench_sandbox(settings: &BenchSettings) -> Result<ExitCode, AppErr
         "benchmark": "sandbox",
         "profile": if cfg!(debug_assertions) { "debug" } else { "release" },
         "video": video.dir.display().to_string(),
-        "rope_programs": rope_programs,
-        "rope_pool": rope_pool,
+        "scenario": video.scenario,
+        "programs": timed_programs,
+        "pool": pool,
         "sandbox": sandbox_report,
     });
     print_report(&report)
 }
 
-/// Every distinct builtin rope program for the questions generated for `video`, with its
-/// family; an error when none can be written.
-fn rope_programs(video: &VideoFolder) -> Result<Vec<(String, String)>, AppError> {
-    let annotation = RopeAnnotation::load(&video.outputs_json()).user()?;
-    let generated = generate_questions(&video.id, &annotation, 0).user()?;
+/// Every distinct builtin program for the questions generated for `video`, with its family; an
+/// error when its scenario has no engine or writer, or none can be written.
+fn builtin_programs(video: &VideoFolder) -> Result<Vec<(String, String)>, AppError> {
+    let parts = scenarios::parts(video.scenario);
+    let (Some(engine), Some(writer)) = (parts.engine, parts.writer) else {
+        return Err(user_error(format!(
+            "bench sandbox: {} scenes have no question engine and builtin writer yet; pass a video of {}",
+            video.scenario,
+            scenarios::names_with(|row| row.engine.is_some() && row.writer.is_some())
+        )));
+    };
+    let generated = (engine.generate)(video, 0).user()?;
     let mut programs: Vec<(String, String)> = Vec::new();
     for (family, records) in &generated.question_dict {
         for (index, record) in records.iter().enumerate() {
             let question = Question::from_record(
                 QuestionId(format!("{family}/{index}")),
                 VideoId(video.id.0.clone()),
-                Scenario::Rope,
+                video.scenario,
                 record.clone(),
             )
-            .map_err(user_error)?;
+            .user()?;
             for (_, option) in question.units() {
-                if let Ok(source) = write_program(&question, option, &rope::WRITER)
+                if let Ok(source) = write_program(&question, option, writer)
                     && !programs.iter().any(|(_, s)| *s == source)
                 {
                     programs.push((family.clone(), source));
@@ -117,7 +137,8 @@ fn rope_programs(video: &VideoFolder) -> Result<Vec<(String, String)>, AppError>
     }
     if programs.is_empty() {
         return Err(user_error(format!(
-            "no rope programs could be written for `{}`",
+            "no {} programs could be written for `{}`",
+            video.scenario,
             video.dir.display()
         )));
     }
@@ -125,9 +146,8 @@ fn rope_programs(video: &VideoFolder) -> Result<Vec<(String, String)>, AppError>
 }
 
 /// Times every program in-process against the real scene API (best of [`ROUNDS`]) and in
-/// CPython against the stub API; the `rope_programs` section of the report, with medians
-/// per family.
-fn time_rope_programs(programs: &[(String, String)], spec: &VideoSpec) -> Value {
+/// CPython against the stub API; the `programs` section of the report, with medians per family.
+fn time_programs(programs: &[(String, String)], spec: &VideoSpec) -> Value {
     // RustPython, in-process, real scene API (memoised after the first program).
     let mut sandbox_in_process = sandbox::Sandbox::new();
     let mut host = SceneHost::new(spec.clone());
@@ -194,10 +214,9 @@ fn time_rope_programs(programs: &[(String, String)], spec: &VideoSpec) -> Value 
     })
 }
 
-/// Pushes `settings.units` rope units through a pool of `settings.jobs` workers; the
-/// `rope_pool` section of the report: throughput, unit wall times and the projected time of
-/// 10,000 units.
-fn run_rope_pool(
+/// Pushes `settings.units` units through a pool of `settings.jobs` workers; the `pool` section
+/// of the report: throughput, unit wall times and the projected time of 10,000 units.
+fn run_pool(
     settings: &BenchSettings,
     programs: &[(String, String)],
     spec: &VideoSpec,

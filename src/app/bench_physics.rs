@@ -1,12 +1,11 @@
-//! `bench physics --scenario rope`: the rope simulator's error against its run time over a sweep
-//! of time steps, as JSON on stdout and an SVG plot (`--svg FILE`).
+//! `bench physics`: a simulator's error against its run time over a sweep of time steps, as
+//! JSON on stdout and an SVG plot (`--svg FILE`).
 //!
-//! Mechanisms: an Atwood machine with pulley inertia, the same with a Coulomb bearing torque on
-//! its pulley (the rope slides over the bearing), and a two-rope network with a movable pulley,
-//! all with closed-form trajectories (constant accelerations while the ropes stay taut), and a
-//! load landing on the floor so that its rope goes slack and re-tightens, whose
-//! reference is the same simulator at a step 10× finer than the finest swept. Error: the largest
-//! difference of any body's height from the reference at the end, m.
+//! The scenario's simulator brings its cases (`physics::bench`, the scenario table's
+//! `physics_bench`): each with a closed form, or else a run at a step 10× finer than the finest
+//! swept as the reference. Every case runs at every step (best of three for the time; the
+//! results are identical each time), and its error is the largest difference of any compared
+//! quantity from the reference at the end.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -17,215 +16,71 @@ use serde_json::{Value, json};
 
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
-use crate::physics::rope::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope};
+use crate::dataset::Scenario;
+use crate::physics::bench::{BenchCase, PhysicsBench};
+use crate::scenarios;
 
-/// Simulated time per run, s.
-const DURATION: f64 = 1.0;
-/// Steps swept by default, s.
-pub(crate) const STEPS: [f64; 8] = [2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4];
-/// The step `--dynamics simulate` uses; the sweep shows its error.
-pub(crate) const DEFAULT_DT: f64 = 1e-3;
-
-/// One mechanism's sweep: its name and `(dt s, error m, run time ms)` per step.
+/// One case's sweep: its name and `(dt s, error m, run time ms)` per step.
 type Series = (&'static str, Vec<(f64, f64, f64)>);
 
-/// A benchmark mechanism and, when it has one, its closed-form end heights.
-struct Case {
-    name: &'static str,
-    mechanism: Mechanism,
-    exact: Option<Vec<f64>>,
-}
-
-fn body(name: &str, mass: f64, x: f64, y: f64) -> Body {
-    Body {
-        name: name.to_string(),
-        mass,
-        position: [x, y],
-        floor_clearance: None,
-    }
-}
-
-fn pulley(name: &str, radius: f64, inertia: f64, mount: Mount) -> Pulley {
-    Pulley {
-        name: name.to_string(),
-        radius,
-        inertia,
-        friction_torque: 0.0,
-        mount,
-    }
-}
-
-fn cases() -> Result<Vec<Case>, AppError> {
-    let radius = 0.5;
-    // Atwood: a = g (m2 − m1) / (m1 + m2 + I/R²).
-    let (m1, m2, inertia) = (0.25, 0.15, 0.02);
-    let atwood = Mechanism::new(Network {
-        bodies: vec![body("A", m1, -radius, -2.0), body("B", m2, radius, -3.0)],
-        pulleys: vec![pulley("P", radius, inertia, Mount::Fixed([0.0, 0.0]))],
-        ropes: vec![Rope {
-            name: "rope".into(),
-            path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
-        }],
-        floor: None,
-        turns: Vec::new(),
-        drives: Vec::new(),
-    })
-    .internal()?;
-    let a = GRAVITY * (m2 - m1) / (m1 + m2 + inertia / (radius * radius));
-    let fall = 0.5 * a * DURATION * DURATION;
-    let atwood_exact = vec![-2.0 + fall, -3.0 - fall];
-
-    // The same with a bearing torque τ below the pull (g·|m2 − m1|·R = 0.49 N·m), so A falls
-    // with the rope sliding over the bearing: a = (g (m2 − m1) + τ/R) / (m1 + m2 + I/R²) for
-    // A (the bearing's τ/R opposes A's fall).
-    let torque = 0.2;
-    let bearing = Mechanism::new(Network {
-        bodies: vec![body("A", m1, -radius, -2.0), body("B", m2, radius, -3.0)],
-        pulleys: vec![Pulley {
-            friction_torque: torque,
-            ..pulley("P", radius, inertia, Mount::Fixed([0.0, 0.0]))
-        }],
-        ropes: vec![Rope {
-            name: "rope".into(),
-            path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
-        }],
-        floor: None,
-        turns: Vec::new(),
-        drives: Vec::new(),
-    })
-    .internal()?;
-    let a = (GRAVITY * (m2 - m1) + torque / radius) / (m1 + m2 + inertia / (radius * radius));
-    let fall = 0.5 * a * DURATION * DURATION;
-    let bearing_exact = vec![-2.0 + fall, -3.0 - fall];
-
-    // Two ropes: y_A + y_P = c₁, 2 y_P + y_B = c₂, q̈ = −g (mP − mA − 2 mB)/(mA + mP + 4 mB).
-    let (ma, mp, mb) = (0.1, 0.3, 0.05);
-    let x = -4.0;
-    let network = Mechanism::new(Network {
-        bodies: vec![
-            body("A", ma, x - radius, -2.0),
-            body("P", mp, x + radius, -3.0),
-            body("B", mb, x + 4.0 * radius, -2.5),
-        ],
-        pulleys: vec![
-            pulley("S1", radius, 0.0, Mount::Fixed([x, 0.0])),
-            pulley("P pulley", radius, 0.0, Mount::Body(1)),
-            pulley("S2", radius, 0.0, Mount::Fixed([x + 3.0 * radius, 1.0])),
-        ],
-        ropes: vec![
-            Rope {
-                name: "rope 1".into(),
-                path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
-            },
-            Rope {
-                name: "rope 2".into(),
-                path: vec![
-                    Point::Fixed([x, 2.0]),
-                    Point::Pulley(1),
-                    Point::Pulley(2),
-                    Point::Body(2),
-                ],
-            },
-        ],
-        floor: None,
-        turns: Vec::new(),
-        drives: Vec::new(),
-    })
-    .internal()?;
-    let q = -GRAVITY * (mp - ma - 2.0 * mb) / (ma + mp + 4.0 * mb);
-    let moved = 0.5 * q * DURATION * DURATION;
-    let network_exact = vec![-2.0 - moved, -3.0 + moved, -2.5 - 2.0 * moved];
-
-    // A heavy load lands on the floor; the light one flies on, the rope goes slack and snaps
-    // taut again: events, no closed form.
-    let mut landing_network = Network {
-        bodies: vec![body("A", 1.0, -radius, -2.0), body("B", 0.2, radius, -3.0)],
-        pulleys: vec![pulley("P", radius, 0.01, Mount::Fixed([0.0, 0.0]))],
-        ropes: vec![Rope {
-            name: "rope".into(),
-            path: vec![Point::Body(0), Point::Pulley(0), Point::Body(1)],
-        }],
-        floor: Some(-2.6),
-        turns: Vec::new(),
-        drives: Vec::new(),
-    };
-    landing_network.bodies[0].floor_clearance = Some(0.1);
-    let landing = Mechanism::new(landing_network).internal()?;
-    Ok(vec![
-        Case {
-            name: "atwood_with_pulley_inertia",
-            mechanism: atwood,
-            exact: Some(atwood_exact),
-        },
-        Case {
-            name: "atwood_with_bearing_friction",
-            mechanism: bearing,
-            exact: Some(bearing_exact),
-        },
-        Case {
-            name: "two_rope_network",
-            mechanism: network,
-            exact: Some(network_exact),
-        },
-        Case {
-            name: "landing_slack_retighten",
-            mechanism: landing,
-            exact: None,
-        },
-    ])
-}
-
-/// End heights after `DURATION` at step `dt`, and the wall time, ms.
-fn simulate(mechanism: &Mechanism, dt: f64) -> Result<(Vec<f64>, f64), AppError> {
-    let mut state = mechanism.initial_state();
+/// The quantities of `case` at step `dt`, and the wall time, ms.
+fn simulate(case: &BenchCase, dt: f64) -> Result<(Vec<f64>, f64), AppError> {
     let started = Instant::now();
-    mechanism.run(&mut state, DURATION, dt).user()?;
-    Ok((state.y, started.elapsed().as_secs_f64() * 1e3))
+    let quantities = (case.run)(dt).user()?;
+    Ok((quantities, started.elapsed().as_secs_f64() * 1e3))
 }
 
 pub(crate) fn bench_physics(
-    scenario: &str,
-    steps: &[f64],
+    scenario: Option<Scenario>,
+    steps: Option<&[f64]>,
     svg: Option<&Path>,
 ) -> Result<ExitCode, AppError> {
+    let with_bench = || scenarios::names_with(|row| row.physics_bench.is_some());
+    let scenario = scenario
+        .or_else(|| scenarios::only_with(|row| row.physics_bench.is_some()))
+        .ok_or_else(|| {
+            user_error(format!(
+                "bench physics: pass --scenario (simulators: {})",
+                with_bench()
+            ))
+        })?;
+    let Some(bench) = scenarios::parts(scenario).physics_bench else {
+        return Err(user_error(format!(
+            "bench physics: no simulator for scenario `{scenario}` yet (simulators: {})",
+            with_bench()
+        )));
+    };
+    let steps = steps.unwrap_or(bench.steps);
     if steps.is_empty() || steps.iter().any(|dt| !(dt.is_finite() && *dt > 0.0)) {
         return Err(user_error("bench physics: --dt needs positive time steps"));
     }
-    if scenario != "rope" {
-        return Err(user_error(format!(
-            "bench physics: no simulator for scenario `{scenario}` yet (rope only)"
-        )));
-    }
     let mut report_cases = Vec::new();
     let mut series: Vec<Series> = Vec::new();
-    for case in cases()? {
+    for case in (bench.cases)().internal()? {
         let (reference, reference_kind) = if let Some(exact) = &case.exact {
             (exact.clone(), "closed form".to_string())
         } else {
             let fine = steps.iter().copied().fold(f64::INFINITY, f64::min) / 10.0;
-            (
-                simulate(&case.mechanism, fine)?.0,
-                format!("dt = {fine:e} s"),
-            )
+            (simulate(&case, fine)?.0, format!("dt = {fine:e} s"))
         };
         let mut points = Vec::new();
         let mut rows = Vec::new();
         for &dt in steps {
-            // Best of three for the time; the heights are identical each time.
+            // Best of three for the time; the results are identical each time.
             let mut best = f64::INFINITY;
-            let mut heights = Vec::new();
+            let mut quantities = Vec::new();
             for _ in 0..3 {
-                let (y, ms) = simulate(&case.mechanism, dt)?;
+                let (values, ms) = simulate(&case, dt)?;
                 best = best.min(ms);
-                heights = y;
+                quantities = values;
             }
-            let error = heights
+            let error = quantities
                 .iter()
                 .zip(&reference)
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0_f64, f64::max);
             points.push((dt, error, best));
-            rows.push(json!({ "dt_s": dt, "max_height_error_m": error, "run_time_ms": best }));
+            rows.push(json!({ "dt_s": dt, bench.error: error, "run_time_ms": best }));
         }
         report_cases.push(json!({
             "mechanism": case.name,
@@ -235,20 +90,20 @@ pub(crate) fn bench_physics(
         series.push((case.name, points));
     }
     let report: Value = json!({
-        "scenario": "rope",
-        "simulated_seconds": DURATION,
-        "default_dt_s": DEFAULT_DT,
+        "scenario": scenario.name(),
+        "simulated_seconds": bench.duration,
+        "default_dt_s": bench.default_dt,
         "cases": report_cases,
     });
     if let Some(path) = svg {
-        crate::util::write_atomic(path, svg_plot(&series).as_bytes()).user()?;
+        crate::util::write_atomic(path, svg_plot(&series, bench).as_bytes()).user()?;
     }
     print_report(&report)
 }
 
 /// A log–log plot of error (m) against run time (ms), one polyline per mechanism, each point
 /// labelled with its step.
-fn svg_plot(series: &[Series]) -> String {
+fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
     let (width, height, margin) = (720.0, 480.0, 70.0);
     let all = series.iter().flat_map(|(_, p)| p.iter());
     let floor = 1e-12;
@@ -272,8 +127,10 @@ fn svg_plot(series: &[Series]) -> String {
     let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
     let _ = writeln!(
         svg,
-        r#"<text x="{}" y="24" text-anchor="middle" font-size="15">rope simulator: error at t = {DURATION} s against run time (dt labelled)</text>"#,
-        width / 2.0
+        r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}: error at t = {} s against run time (dt labelled)</text>"#,
+        width / 2.0,
+        bench.title,
+        bench.duration
     );
     // Axes with decade ticks.
     let _ = writeln!(
@@ -311,7 +168,7 @@ fn svg_plot(series: &[Series]) -> String {
     );
     let _ = writeln!(
         svg,
-        r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">largest height error, m</text>"#,
+        r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">largest error, m</text>"#,
         height / 2.0,
         height / 2.0
     );

@@ -14,7 +14,6 @@ use super::error::{AppError, Classify as _, user_error};
 use super::progress::Progress;
 use super::questions::questions;
 use super::settings::{FramesSelection, GenerateSettings, QuestionsSettings};
-use crate::dataset::Scenario;
 use crate::perception::frames::ffmpeg_available;
 use crate::scenarios;
 use crate::synth::video::FrameOutput;
@@ -31,10 +30,15 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
             "--resolution {width}x{height} is outside 16x16 to 7680x4320"
         )));
     }
-    let scenario = match settings.scenario {
-        Some(scenario) => scenario,
-        None => only_generator()?,
-    };
+    let scenario = settings
+        .scenario
+        .or_else(|| scenarios::only_with(|row| row.synth.is_some()))
+        .ok_or_else(|| {
+            user_error(format!(
+                "pass --scenario: generators exist for {}",
+                scenarios::names_with(|row| row.synth.is_some())
+            ))
+        })?;
     let Some(synth) = scenarios::parts(scenario).synth else {
         return Err(SynthError::Unsupported {
             scenario: scenario.name().to_string(),
@@ -148,22 +152,6 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         fact_per_video: 2,
         dynamics_per_video: 2,
     })
-}
-
-/// The scenario `generate` makes without `--scenario`: the one that has a generator.
-fn only_generator() -> Result<Scenario, AppError> {
-    let with: Vec<Scenario> = scenarios::all()
-        .iter()
-        .filter(|row| row.synth.is_some())
-        .map(|row| row.scenario)
-        .collect();
-    match with.as_slice() {
-        [one] => Ok(*one),
-        _ => Err(user_error(format!(
-            "pass --scenario: generators exist for {}",
-            scenarios::names_with(|row| row.synth.is_some())
-        ))),
-    }
 }
 
 /// Generation errors are the environment's or the user's (paths, ffmpeg), except a scene that

@@ -197,8 +197,8 @@ pub struct GenerateSettings {
 /// `bench physics` settings.
 #[derive(Debug, Clone)]
 pub struct BenchPhysicsSettings {
-    /// The scenario's simulator (`rope`).
-    pub scenario: String,
+    /// The scenario whose simulator is measured; `None`: the one scenario with a benchmark.
+    pub scenario: Option<Scenario>,
     /// Where to write the SVG plot.
     pub svg: Option<PathBuf>,
     /// Time steps to sweep, s (`None`: the default sweep).
@@ -301,6 +301,6 @@ pub struct BenchSettings {
     pub units: usize,
     /// Worker processes.
     pub jobs: usize,
-    /// The rope video.
-    pub video: PathBuf,
+    /// The video whose builtin programs are timed; `None`: the repository's demo video.
+    pub video: Option<PathBuf>,
 }

@@ -510,16 +510,17 @@ pub enum BenchCommand {
         /// Worker processes (default: the number of cores).
         #[arg(long, value_name = "N")]
         jobs: Option<usize>,
-        /// The rope video whose programs are timed.
-        #[arg(long, value_name = "DIR", default_value = "eval/demo/pulley_group/0")]
-        video: PathBuf,
+        /// The video whose programs are timed (default: the repository's demo video).
+        #[arg(long, value_name = "DIR")]
+        video: Option<PathBuf>,
     },
     /// Simulator accuracy: error against run time over a sweep of time steps (closed forms or a
     /// fine reference), as JSON, with an optional SVG plot.
     Physics {
-        /// The scenario whose simulator is measured.
-        #[arg(long, value_name = "SCENARIO", default_value = "rope")]
-        scenario: String,
+        /// The scenario whose simulator is measured (default: the one scenario with a
+        /// simulator benchmark).
+        #[arg(long, value_name = "SCENARIO")]
+        scenario: Option<Scenario>,
         /// Also write the plot of error against run time here.
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,

@@ -41,8 +41,3 @@ pub use scenario::{Scenario, UnknownScenario};
 pub use segmentation::{PaintedInstance, SegmentationRecords};
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};
 pub use vocabulary::Vocabulary;
-
-// Old paths the rope generator still uses while its files are being split; removed once it
-// imports from `dataset::rope`.
-pub use rope::parse_rope_object_name;
-pub use rope::world as rope_world;

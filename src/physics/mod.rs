@@ -10,6 +10,8 @@
 //!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step;
 //!   [`rope::identify`] infers load masses from observed motion.
 //! * [`linalg`]: the small dense solvers they share.
+//! * [`bench`]: what each simulator brings to `bench physics` (cases with known answers).
 
+pub mod bench;
 pub mod linalg;
 pub mod rope;

@@ -16,6 +16,7 @@ use crate::dataset::engine::{self, QuestionEngine};
 use crate::dataset::{self, FamilyIndex, Scenario, Vocabulary};
 use crate::dataset::{ChoiceOption, Question};
 use crate::perception::{self, ScenarioPerception};
+use crate::physics::{self, bench::PhysicsBench};
 use crate::program::builtin::{self, Writer};
 use crate::prompt::{PromptError, PromptMode, PromptSet, RenderedPrompt, SceneWords, error_chain};
 use crate::scene_api::{self, BackendLoader, InferenceBench, ReadingCheck, SceneParts};
@@ -26,6 +27,9 @@ use crate::synth::{self, ScenarioSynth};
 pub struct ScenarioParts {
     /// The scenario.
     pub scenario: Scenario,
+    /// Its demo video in the repository (relative to its root), for commands that need one
+    /// video by default (`bench sandbox`).
+    pub demo: Option<&'static str>,
     /// The words of its scenes: what `find` understands, what objects carry, what the prompt
     /// lists.
     pub vocabulary: &'static Vocabulary,
@@ -44,6 +48,8 @@ pub struct ScenarioParts {
     pub reading_check: Option<ReadingCheck>,
     /// Its check of properties inferred from the video (`bench inference`).
     pub inference_bench: Option<InferenceBench>,
+    /// Its simulator's error-against-run-time benchmark (`bench physics`).
+    pub physics_bench: Option<&'static PhysicsBench>,
 }
 
 impl std::fmt::Debug for ScenarioParts {
@@ -64,6 +70,7 @@ impl std::fmt::Debug for ScenarioParts {
 static TABLE: [ScenarioParts; 4] = [
     ScenarioParts {
         scenario: Scenario::Rope,
+        demo: Some("eval/demo/pulley_group/0"),
         vocabulary: &dataset::rope::VOCABULARY,
         engine: Some(&engine::rope::ENGINE),
         synth: Some(&synth::rope::RopeSynth),
@@ -72,9 +79,11 @@ static TABLE: [ScenarioParts; 4] = [
         perception: Some(&perception::rope::PERCEPTION),
         reading_check: Some(scene_api::rope::mechanism_report),
         inference_bench: Some(scene_api::rope::inference_report),
+        physics_bench: Some(&physics::rope::bench::BENCH),
     },
     ScenarioParts {
         scenario: Scenario::Fluid,
+        demo: None,
         vocabulary: &dataset::fluid::VOCABULARY,
         engine: None,
         synth: None,
@@ -83,9 +92,11 @@ static TABLE: [ScenarioParts; 4] = [
         perception: None,
         reading_check: None,
         inference_bench: None,
+        physics_bench: None,
     },
     ScenarioParts {
         scenario: Scenario::Cloth,
+        demo: None,
         vocabulary: &dataset::cloth::VOCABULARY,
         engine: None,
         synth: None,
@@ -94,9 +105,11 @@ static TABLE: [ScenarioParts; 4] = [
         perception: None,
         reading_check: None,
         inference_bench: None,
+        physics_bench: None,
     },
     ScenarioParts {
         scenario: Scenario::Ball,
+        demo: None,
         vocabulary: &dataset::ball::VOCABULARY,
         engine: None,
         synth: None,
@@ -105,6 +118,7 @@ static TABLE: [ScenarioParts; 4] = [
         perception: None,
         reading_check: None,
         inference_bench: None,
+        physics_bench: None,
     },
 ];
 
@@ -174,6 +188,16 @@ pub fn families() -> FamilyIndex<'static> {
             .filter_map(|row| row.engine.map(|engine| (row.scenario, engine.families)))
             .collect()
     })
+}
+
+/// The one scenario that has `part`, when exactly one has it: what a command that needs the part
+/// uses when no scenario is named.
+pub fn only_with(part: impl Fn(&ScenarioParts) -> bool) -> Option<Scenario> {
+    let mut with = TABLE.iter().filter(|row| part(row)).map(|row| row.scenario);
+    match (with.next(), with.next()) {
+        (Some(only), None) => Some(only),
+        _ => None,
+    }
 }
 
 /// The scenarios that have `part`, by name, comma separated (`rope`): for messages about the

@@ -69,6 +69,13 @@ pub fn seen_rotation(simulated: i8, mirrored: bool) -> i8 {
     if mirrored { -simulated } else { simulated }
 }
 
+/// The release's motion record of a static pulley or fixed point pulled at `velocity` (units/s,
+/// up positive): the sign of the pull (the pull moves it 3.5 or 7 units, far past the motion
+/// threshold, within every run's updates).
+pub fn pulled_motion(velocity: f64) -> i8 {
+    threshold_sign(velocity, 0.0)
+}
+
 /// +1 above `threshold`, −1 below `-threshold`, 0 between.
 fn threshold_sign(delta: f64, threshold: f64) -> i8 {
     if delta > threshold {

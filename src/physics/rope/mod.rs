@@ -52,6 +52,7 @@
 //! bearing-friction rows, numeric derivatives), the instantaneous solves (`instantaneous`) and
 //! the integrator (`step`).
 
+pub mod bench;
 mod dynamics;
 mod geometry;
 pub mod identify;

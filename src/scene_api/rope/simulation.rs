@@ -12,7 +12,7 @@
 //! latched at its first crossing as the generator does; or ([`infer_rope_masses`]) per load and
 //! pair of loads what the motion says about their masses.
 //!
-//! The world follows the release (`dataset::rope_world`): static pulleys are 1 kg discs that turn
+//! The world follows the release (`dataset::rope::world`): static pulleys are 1 kg discs that turn
 //! with the rope, the rope wraps solid and hollow pulleys at their own radii, movable pulleys
 //! weigh 5 g; a factual run lasts the 500 updates after the masses change, a counterfactual run
 //! the 300 after its change. A pulled static pulley or fixed point moves at 2 units/s for 3.5
@@ -23,6 +23,7 @@
 use indexmap::IndexMap;
 
 use crate::dataset::FourDData;
+use crate::dataset::rope::outcome::{OutcomeLatch, pulled_motion, seen_rotation};
 use crate::dataset::rope::{RopeAnnotation, RopeObjectKind, parse_rope_object_name, world};
 use crate::physics::rope::identify::{
     BodyVerdict, Identification, IdentifyError, Observation, PairVerdict, Track, Unknown, identify,
@@ -492,8 +493,8 @@ pub(crate) fn rope_paths(
 }
 
 /// Simulates the rope video's `run` with the load masses `masses` (kg) and reads off the
-/// benchmark's motion and rotation signs, each latched at the first update it crosses its
-/// threshold (the generator's `ResultMotion`/`ResultRotation`).
+/// benchmark's motion and rotation signs with the generator's own labelling
+/// (`dataset::rope::outcome`: each latched at the first update it crosses its threshold).
 pub fn simulate_rope(
     annotation: &RopeAnnotation,
     four_d: Option<&FourDData>,
@@ -534,64 +535,37 @@ pub fn simulate_rope(
         built.network.drives.push(drive);
     }
     let mechanism = Mechanism::new(built.network)?;
-    let start = mechanism.initial_state();
-    let mut state = start.clone();
-    let sign = |delta: f64, threshold: f64| -> i8 {
-        if delta > threshold {
-            1
-        } else if delta < -threshold {
-            -1
-        } else {
-            0
-        }
-    };
-    // Counter-clockwise is positive in the simulation; the video shows the scene from −z when
-    // the camera is mirrored, so its clockwise is the simulation's clockwise then, and the
-    // opposite otherwise.
+    let mut state = mechanism.initial_state();
+    // The video shows the scene from −z when the camera is mirrored (`seen_rotation`).
     let mirrored = annotation.camera.as_ref().is_none_or(|c| c.mirrored);
-    let seen_clockwise = |turned: f64| if mirrored { -turned } else { turned };
-    let rotation_threshold = world::ROTATION_THRESHOLD_DEG.to_radians();
     let dt = world::UPDATE_SECONDS / f64::from(SUBSTEPS_PER_UPDATE);
-    let mut motion = vec![0_i8; start.y.len()];
-    let mut rotation = vec![0_i8; start.angles.len()];
-    let mut agent_motion = 0_i8;
+    // The generator's labelling: thresholds checked once per update, the first crossing kept.
+    let mut labels = OutcomeLatch::new(&state.y, &state.angles);
     for _ in 0..run.updates() {
         for _ in 0..SUBSTEPS_PER_UPDATE {
             mechanism.step(&mut state, dt)?;
         }
-        // The generator checks its thresholds once per update and keeps the first crossing.
-        for ((latched, y), y0) in motion.iter_mut().zip(&state.y).zip(&start.y) {
-            if *latched == 0 {
-                *latched = sign(y - y0, world::MOTION_THRESHOLD);
-            }
-        }
-        for (latched, angle) in rotation.iter_mut().zip(&state.angles) {
-            if *latched == 0 {
-                *latched = sign(seen_clockwise(*angle), rotation_threshold);
-            }
-        }
-        if let Some((_, drive)) = &pulled
-            && agent_motion == 0
-        {
-            agent_motion = sign(drive.displacement(state.time), world::MOTION_THRESHOLD);
-        }
+        labels.observe(&state.y, &state.angles);
     }
     let mut outcome = RopeOutcome {
         steps: u64::from(run.updates()) * u64::from(SUBSTEPS_PER_UPDATE),
         ..RopeOutcome::default()
     };
     for (name, &index) in &built.bodies {
-        outcome.motion.insert(name.clone(), motion[index]);
+        outcome.motion.insert(name.clone(), labels.motion(index));
     }
     for name in built.pulleys.keys().chain(built.anchors.iter()) {
         let moved = match &pulled {
-            Some((agent, _)) if agent == name => agent_motion,
+            Some((agent, drive)) if agent == name => pulled_motion(drive.velocity),
             _ => 0,
         };
         outcome.motion.entry(name.clone()).or_insert(moved);
     }
     for (name, &index) in &built.pulleys {
-        outcome.rotation.insert(name.clone(), rotation[index]);
+        outcome.rotation.insert(
+            name.clone(),
+            seen_rotation(labels.rotation(index), mirrored),
+        );
     }
     Ok(outcome)
 }

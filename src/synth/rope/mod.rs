@@ -22,7 +22,7 @@ use super::background::Wall;
 use super::raster::Light;
 use super::{ScenarioSynth, SynthError, SynthesizedVideo};
 use crate::dataset::Scenario;
-use crate::dataset::rope_world as world;
+use crate::dataset::rope::world;
 use crate::perception::camera::CameraModel;
 use crate::util::seeded_rng;
 

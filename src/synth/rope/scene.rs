@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
 use super::simulate::{BodyRole, FrameState, TruthModel};
-use crate::dataset::rope_world as world;
+use crate::dataset::rope::world;
 use crate::perception::camera::CameraModel;
 use crate::physics::rope::Mount;
 use crate::synth::Item;

@@ -14,7 +14,8 @@
 use indexmap::IndexMap;
 
 use super::layout::{ElementKind, Layout, LayoutRope};
-use crate::dataset::rope_world as world;
+use crate::dataset::rope::outcome::{OutcomeLatch, pulled_motion, seen_rotation};
+use crate::dataset::rope::world;
 use crate::physics::rope::{
     Body, Drive, DrivenPoint, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError,
     State, Turn,
@@ -442,7 +443,6 @@ pub fn run(
     let tensions_at_change = state.tensions.clone();
     let (network, moved) = changed_network(model, change, state.time)?;
     let after = Mechanism::new(network)?;
-    let at_change = state.clone();
     let mut latches = Latches::new(&state, invalid);
     let mut frames = Vec::with_capacity(record);
     for update in 0..=updates_after {
@@ -451,7 +451,7 @@ pub fn run(
                 after.step(&mut state, dt)?;
                 steps += 1;
             }
-            latches.observe(model, &state, &at_change, check_validity);
+            latches.observe(model, &state, check_validity);
             if latches.invalid.is_some() {
                 break;
             }
@@ -543,12 +543,9 @@ fn changed_network(
 /// What a run latches after the change: each body's and pulley's sign at its first threshold
 /// crossing, and the first pulley too fast for a valid trial.
 struct Latches {
-    /// Body index → sign of its first move past the motion threshold.
-    motion: IndexMap<usize, i8>,
-    /// Pulley index → sign of its first turn past the rotation threshold.
-    rotation: IndexMap<usize, i8>,
-    /// The rotation threshold, rad.
-    threshold: f64,
+    /// The release's outcome labels, latched from the change (shared with `--dynamics
+    /// simulate`).
+    labels: OutcomeLatch,
     /// Pulley angles at the previous update.
     previous_angles: Vec<f64>,
     /// Why the trial is invalid, if it is.
@@ -559,34 +556,17 @@ impl Latches {
     /// Nothing latched yet, from the state at the change.
     fn new(state: &State, invalid: Option<String>) -> Latches {
         Latches {
-            motion: IndexMap::new(),
-            rotation: IndexMap::new(),
-            threshold: world::ROTATION_THRESHOLD_DEG.to_radians(),
+            labels: OutcomeLatch::new(&state.y, &state.angles),
             previous_angles: state.angles.clone(),
             invalid,
         }
     }
 
-    /// Latches the motion and rotation of `state` against `at_change`, and with
+    /// Latches the motion and rotation of `state` (against the state at the change), and with
     /// `check_validity` notes a pulley turning faster than a valid trial allows.
-    fn observe(
-        &mut self,
-        model: &TruthModel,
-        state: &State,
-        at_change: &State,
-        check_validity: bool,
-    ) {
-        for (index, y) in state.y.iter().enumerate() {
-            let delta = y - at_change.y[index];
-            if delta.abs() > world::MOTION_THRESHOLD {
-                self.motion.entry(index).or_insert(sign(delta));
-            }
-        }
+    fn observe(&mut self, model: &TruthModel, state: &State, check_validity: bool) {
+        self.labels.observe(&state.y, &state.angles);
         for (index, angle) in state.angles.iter().enumerate() {
-            let delta = angle - at_change.angles[index];
-            if delta.abs() > self.threshold {
-                self.rotation.entry(index).or_insert(sign(delta));
-            }
             let speed = (angle - self.previous_angles[index]).abs() / world::UPDATE_SECONDS;
             if check_validity && speed > MAX_ANGULAR_SPEED && self.invalid.is_none() {
                 self.invalid = Some(format!(
@@ -612,41 +592,27 @@ impl Latches {
         let moved_sign = |name: &str| -> i8 {
             moved
                 .filter(|(agent, _)| agent == name)
-                .map_or(0, |(_, velocity)| sign(*velocity))
+                .map_or(0, |(_, velocity)| pulled_motion(*velocity))
         };
         for (name, &pulley) in &model.pulleys {
             let motion = match model.network.pulleys[pulley].mount {
-                Mount::Body(body) => self.motion.get(&body).copied().unwrap_or(0),
+                Mount::Body(body) => self.labels.motion(body),
                 Mount::Fixed(_) => moved_sign(name),
             };
             result.motion.insert(name.clone(), motion);
-            let turned = self.rotation.get(&pulley).copied().unwrap_or(0);
-            // Counter-clockwise is positive in the simulation; a mirrored camera (at −z) sees the
-            // simulation's orientation, the other one sees it reversed.
+            let turned = self.labels.rotation(pulley);
             result
                 .rotation
-                .insert(name.clone(), if mirrored { -turned } else { turned });
+                .insert(name.clone(), seen_rotation(turned, mirrored));
         }
         for (name, &body) in &model.bodies {
             if model.roles[body] != BodyRole::MovablePulley {
-                result
-                    .motion
-                    .insert(name.clone(), self.motion.get(&body).copied().unwrap_or(0));
+                result.motion.insert(name.clone(), self.labels.motion(body));
             }
         }
         for (name, _, _) in &model.anchors {
             result.motion.insert(name.clone(), moved_sign(name));
         }
-    }
-}
-
-fn sign(value: f64) -> i8 {
-    if value > 0.0 {
-        1
-    } else if value < 0.0 {
-        -1
-    } else {
-        0
     }
 }
 

@@ -33,7 +33,7 @@ use self::finish::{build_meta, rearrange, sample_masses};
 use self::naming::name_and_group;
 use self::poses::{add_terminals, limit_dynamic_nodes, rope_poses};
 use self::scheme::sample_scheme;
-use crate::dataset::rope_world as world;
+use crate::dataset::rope::world;
 
 const BASE_X: f64 = -20.0;
 const BASE_Y: f64 = 20.0;
@@ -311,7 +311,7 @@ mod tests {
             for group in &layout.related_groups {
                 for name in group {
                     assert!(
-                        crate::dataset::parse_rope_object_name(name).is_some(),
+                        crate::dataset::rope::parse_rope_object_name(name).is_some(),
                         "{name}"
                     );
                 }
