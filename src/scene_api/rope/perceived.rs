@@ -103,6 +103,26 @@ fn base_name(track: &Track, classes: &ClassTable) -> String {
     format!("{color} {}", words.join(" "))
 }
 
+/// Unique, release-style names of the tracks (`Red Hollow Static Pulley (0 3)`): pulleys carry
+/// their track index as a grid id, since the layout grid cannot be seen.
+fn track_names(tracks: &[Track], classes: &ClassTable) -> Vec<Option<String>> {
+    let mut names: Vec<Option<String>> = Vec::with_capacity(tracks.len());
+    for (index, track) in tracks.iter().enumerate() {
+        let base = base_name(track, classes);
+        let pulley = classes.kind(track.class) == "pulley";
+        let taken = |name: &str| names.iter().flatten().any(|n| n == name);
+        let name = if pulley {
+            format!("{base} (0 {index})")
+        } else if taken(&base) {
+            format!("{base} (1 {index})")
+        } else {
+            base
+        };
+        names.push(Some(name));
+    }
+    names
+}
+
 /// A track's first observation and its detection.
 fn detection_of<'a>(
     track: &'a Track,
@@ -200,6 +220,78 @@ pub(crate) fn perceived_positions(
     Ok(positions)
 }
 
+/// The tracks of a first pass placed in the scene: nodes at their lifted centroids (with the
+/// track each stands for), and ropes with their detections.
+struct Placed<'a> {
+    nodes: Vec<Node>,
+    node_track: Vec<usize>,
+    ropes: Vec<(usize, &'a Detection)>,
+}
+
+/// Places every track: a node track at its first centroid lifted onto the scene plane, a rope
+/// track as a rope. Most confident first, so that of two tracks on one object (the detector's
+/// NMS is per class: one pulley can come out as a solid and as a hollow one) the surer one is
+/// kept; the name of a track that stands for no object is cleared.
+fn place_tracks<'a>(
+    pass: &FirstPass<'a>,
+    model: &CameraModel,
+    camera: &Camera,
+    names: &mut [Option<String>],
+) -> Placed<'a> {
+    let (tracks, detections, classes) = (pass.tracks, pass.detections, pass.classes);
+    let mut placed = Placed {
+        nodes: Vec::new(),
+        node_track: Vec::new(),
+        ropes: Vec::new(),
+    };
+    let mut order: Vec<usize> = (0..tracks.len()).collect();
+    let confidence = |index: usize| {
+        detection_of(&tracks[index], detections).map_or(0.0, |(_, detection)| detection.score)
+    };
+    order.sort_by(|&a, &b| confidence(b).total_cmp(&confidence(a)).then(a.cmp(&b)));
+    for index in order {
+        let track = &tracks[index];
+        let Some((point, detection)) = detection_of(track, detections) else {
+            continue;
+        };
+        match node_kind(classes.name(track.class)) {
+            Some(kind) => {
+                if let Some(centre) = lift(model, camera, point.centroid[0], point.centroid[1])
+                    && !placed
+                        .nodes
+                        .iter()
+                        .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE)
+                {
+                    placed.nodes.push(Node { kind, centre });
+                    placed.node_track.push(index);
+                } else {
+                    // A second track on an object already placed (or one that cannot be
+                    // placed) is not an object of the scene.
+                    names[index] = None;
+                }
+            }
+            None => placed.ropes.push((index, detection)),
+        }
+    }
+    placed
+}
+
+/// Pixels per [`COVER_RADIUS`] round the middle of the scene (at least 1.5), for how far a
+/// rope's pixels may be from a sample point and still cover it.
+fn reach_pixels(nodes: &[Node], model: &CameraModel) -> f64 {
+    let middle = nodes.iter().fold([0.0, 0.0], |sum, n| {
+        [sum[0] + n.centre[0], sum[1] + n.centre[1]]
+    });
+    let count = nodes.len().max(1) as f64;
+    let middle = [middle[0] / count, middle[1] / count];
+    let here = model.project([middle[0], middle[1], 0.0]);
+    let beside = model.project([middle[0] + COVER_RADIUS, middle[1], 0.0]);
+    match (here, beside) {
+        (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y).max(1.5),
+        _ => 1.5,
+    }
+}
+
 /// Reads the mechanism of one video from its first pass; `frame` is the pass's first frame
 /// (the ropes' colours are read from it).
 pub(crate) fn perceive_rope(
@@ -222,68 +314,13 @@ pub(crate) fn perceive_rope(
         size.1,
     );
     // Names: unique, release-style.
-    let mut names: Vec<Option<String>> = Vec::with_capacity(tracks.len());
-    for (index, track) in tracks.iter().enumerate() {
-        let base = base_name(track, classes);
-        let pulley = classes.kind(track.class) == "pulley";
-        let taken = |name: &str| names.iter().flatten().any(|n| n == name);
-        let name = if pulley {
-            format!("{base} (0 {index})")
-        } else if taken(&base) {
-            format!("{base} (1 {index})")
-        } else {
-            base
-        };
-        names.push(Some(name));
-    }
-    // Nodes at their lifted centroids; ropes with their masks.
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut node_track: Vec<usize> = Vec::new();
-    let mut ropes: Vec<(usize, &Detection)> = Vec::new();
-    // Most confident first, so that of two tracks on one object (the detector's NMS is per
-    // class: one pulley can come out as a solid and as a hollow one) the surer one is kept.
-    let mut order: Vec<usize> = (0..tracks.len()).collect();
-    let confidence = |index: usize| {
-        detection_of(&tracks[index], detections).map_or(0.0, |(_, detection)| detection.score)
-    };
-    order.sort_by(|&a, &b| confidence(b).total_cmp(&confidence(a)).then(a.cmp(&b)));
-    for index in order {
-        let track = &tracks[index];
-        let Some((point, detection)) = detection_of(track, detections) else {
-            continue;
-        };
-        match node_kind(classes.name(track.class)) {
-            Some(kind) => {
-                if let Some(centre) = lift(&model, camera, point.centroid[0], point.centroid[1])
-                    && !nodes
-                        .iter()
-                        .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE)
-                {
-                    nodes.push(Node { kind, centre });
-                    node_track.push(index);
-                } else {
-                    // A second track on an object already placed (or one that cannot be
-                    // placed) is not an object of the scene.
-                    names[index] = None;
-                }
-            }
-            None => ropes.push((index, detection)),
-        }
-    }
-    // Pixels per unit round the scene, for the cover radius.
-    let reach_px = {
-        let middle = nodes.iter().fold([0.0, 0.0], |sum, n| {
-            [sum[0] + n.centre[0], sum[1] + n.centre[1]]
-        });
-        let count = nodes.len().max(1) as f64;
-        let middle = [middle[0] / count, middle[1] / count];
-        let here = model.project([middle[0], middle[1], 0.0]);
-        let beside = model.project([middle[0] + COVER_RADIUS, middle[1], 0.0]);
-        match (here, beside) {
-            (Some(a), Some(b)) => (a.x - b.x).hypot(a.y - b.y).max(1.5),
-            _ => 1.5,
-        }
-    };
+    let mut names = track_names(tracks, classes);
+    let Placed {
+        nodes,
+        node_track,
+        ropes,
+    } = place_tracks(pass, &model, camera, &mut names);
+    let reach_px = reach_pixels(&nodes, &model);
     let (width, height) = size;
     let wall = frame.and_then(|frame| {
         let masks: Vec<&InstanceMask> = detections
@@ -517,53 +554,8 @@ fn assemble(
         .zip(paths)
         .filter_map(|((track, _), path)| Some((name_of(*track), path.as_ref()?)))
         .collect();
-    // Groups: ropes sharing a node, by union-find over rope indices.
-    let mut parent: Vec<usize> = (0..read.len()).collect();
-    for a in 0..read.len() {
-        for b in a + 1..read.len() {
-            if read[a].1.nodes.iter().any(|n| read[b].1.nodes.contains(n)) {
-                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                parent[ra.max(rb)] = ra.min(rb);
-            }
-        }
-    }
-    let roots: Vec<usize> = (0..read.len()).map(|i| root(&mut parent, i)).collect();
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    for rope in 0..read.len() {
-        match groups.iter_mut().find(|g| roots[g[0]] == roots[rope]) {
-            Some(group) => group.push(rope),
-            None => groups.push(vec![rope]),
-        }
-    }
-    let mut related_groups = Vec::new();
-    let mut related_groups_in_rope = Vec::new();
-    for group in &groups {
-        // The main rope is the longest; side ropes are listed after the node they hang from.
-        let mut order = group.clone();
-        order.sort_by_key(|&r| (std::cmp::Reverse(read[r].1.nodes.len()), r));
-        let mut in_rope = IndexMap::new();
-        for &r in &order {
-            let (rope, path) = &read[r];
-            let mut elements = Vec::new();
-            for (i, &node) in path.nodes.iter().enumerate() {
-                if i > 0 {
-                    elements.push(rope.clone());
-                }
-                elements.push(node_name(node));
-            }
-            in_rope.insert(rope.clone(), elements);
-        }
-        let mut listed = Vec::new();
-        let mut placed = vec![false; read.len()];
-        write_chain(&read, order[0], None, &node_name, &mut listed, &mut placed);
-        for &r in &order {
-            if !placed[r] {
-                write_chain(&read, r, None, &node_name, &mut listed, &mut placed);
-            }
-        }
-        related_groups.push(listed);
-        related_groups_in_rope.push(in_rope);
-    }
+    let (related_groups, related_groups_in_rope) =
+        group_listings(&read, &rope_groups(&read), &node_name);
     let mut annotation = RopeAnnotation {
         mode: "PERCEIVED".to_string(),
         related_groups,
@@ -652,6 +644,71 @@ fn assemble(
         names,
         unattached,
     }
+}
+
+/// The read ropes in groups of ropes sharing a node (union-find over rope indices), each group in
+/// rope order, the groups in order of their first rope.
+fn rope_groups(read: &[(String, &RopePath)]) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..read.len()).collect();
+    for a in 0..read.len() {
+        for b in a + 1..read.len() {
+            if read[a].1.nodes.iter().any(|n| read[b].1.nodes.contains(n)) {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    let roots: Vec<usize> = (0..read.len()).map(|i| root(&mut parent, i)).collect();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for rope in 0..read.len() {
+        match groups.iter_mut().find(|g| roots[g[0]] == roots[rope]) {
+            Some(group) => group.push(rope),
+            None => groups.push(vec![rope]),
+        }
+    }
+    groups
+}
+
+/// One group's `relatedGroupsInRope` entry: per rope, its elements with itself between them.
+type RopeElements = IndexMap<String, Vec<String>>;
+
+/// The release's `relatedGroups` (each group's elements and ropes as one chain) and
+/// `relatedGroupsInRope` (per rope, its elements and itself between them) of `groups`.
+fn group_listings(
+    read: &[(String, &RopePath)],
+    groups: &[Vec<usize>],
+    node_name: &dyn Fn(usize) -> String,
+) -> (Vec<Vec<String>>, Vec<RopeElements>) {
+    let mut related_groups = Vec::new();
+    let mut related_groups_in_rope = Vec::new();
+    for group in groups {
+        // The main rope is the longest; side ropes are listed after the node they hang from.
+        let mut order = group.clone();
+        order.sort_by_key(|&r| (std::cmp::Reverse(read[r].1.nodes.len()), r));
+        let mut in_rope = IndexMap::new();
+        for &r in &order {
+            let (rope, path) = &read[r];
+            let mut elements = Vec::new();
+            for (i, &node) in path.nodes.iter().enumerate() {
+                if i > 0 {
+                    elements.push(rope.clone());
+                }
+                elements.push(node_name(node));
+            }
+            in_rope.insert(rope.clone(), elements);
+        }
+        let mut listed = Vec::new();
+        let mut placed = vec![false; read.len()];
+        write_chain(read, order[0], None, node_name, &mut listed, &mut placed);
+        for &r in &order {
+            if !placed[r] {
+                write_chain(read, r, None, node_name, &mut listed, &mut placed);
+            }
+        }
+        related_groups.push(listed);
+        related_groups_in_rope.push(in_rope);
+    }
+    (related_groups, related_groups_in_rope)
 }
 
 /// Appends rope `rope`'s chain to `listed` in `relatedGroups` order (`node, rope, node, …`),
