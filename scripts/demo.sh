@@ -1,15 +1,45 @@
 #!/usr/bin/env bash
-# The README's first command: installs ONNX Runtime into the project (scripts/setup-onnxruntime.sh),
+# The README's first command: installs what the demo needs (Debian's ffmpeg, to decode the video,
+# through apt-get when it can; ONNX Runtime into the project, scripts/setup-onnxruntime.sh),
 # builds, and evaluates every question of the embedded real rope video with ContPRO's pipeline
 # (--perception maskrcnn --dynamics simulate). Without a runtime (no pip, not Linux x86_64) it
 # says so and runs the oracle perception instead. Extra arguments go to contphy-eval.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# ffmpeg decodes the demo's mp4s. Install it as .ci/run does when apt-get can run (as root or
+# with password-less sudo); otherwise stop before building, with the one command to type.
+if [ -z "${CONTPHY_FFMPEG_DIR:-}" ] && ! command -v ffmpeg >/dev/null 2>&1; then
+  sudo=""
+  if [ "$(id -u)" != 0 ]; then
+    if command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+      sudo="sudo -n"
+    else
+      sudo="unavailable"
+    fi
+  fi
+  if [ "${sudo}" != unavailable ] && command -v apt-get >/dev/null 2>&1; then
+    echo "demo: installing ffmpeg (apt-get) to decode the demo video ..." >&2
+    ${sudo} apt-get update -qq >/dev/null
+    DEBIAN_FRONTEND=noninteractive ${sudo} apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null
+  fi
+  if ! command -v ffmpeg >/dev/null 2>&1; then
+    echo "demo: ffmpeg is needed to decode the demo video; install it (Debian/Ubuntu: sudo apt-get install ffmpeg) and run scripts/demo.sh again" >&2
+    exit 1
+  fi
+fi
+
 perception=(--perception maskrcnn --dynamics simulate)
 if ! scripts/setup-onnxruntime.sh; then
   echo "demo: ONNX Runtime could not be installed; running with --perception annotation" >&2
   perception=(--perception annotation --dynamics simulate)
 fi
+# A new run directory each time (runs/demo, runs/demo-2, ...): earlier runs are kept.
+out=runs/demo
+n=1
+while [ -e "${out}/manifest.json" ]; do
+  n=$((n + 1))
+  out="runs/demo-${n}"
+done
 exec cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_group/0.json \
-  --out runs/demo "${perception[@]}" "$@"
+  --out "${out}" "${perception[@]}" "$@"

@@ -59,8 +59,8 @@ pub(crate) fn exec(settings: &ExecSettings) -> Result<ExitCode, AppError> {
         _ => None,
     };
 
-    let models = resolve_models(settings.perception, [video.scenario], &settings.models)?;
     check_frames(settings.perception, [&video])?;
+    let models = resolve_models(settings.perception, [video.scenario], &settings.models)?;
     let spec = VideoSpec::new(&video, settings.perception, settings.dynamics)
         .with_models(models.get(&video.scenario).cloned());
     let pool = start_pool(1, settings.budgets)?;

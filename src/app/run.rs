@@ -38,12 +38,12 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     } = select_questions(&root, settings)?;
     // The backends' prerequisites, before the first unit: a missing one is one line, not a
     // report of failed units.
+    check_frames(settings.perception, videos.values().flatten())?;
     let models = resolve_models(
         settings.perception,
         questions.iter().map(|q| q.scenario),
         &settings.models,
     )?;
-    check_frames(settings.perception, videos.values().flatten())?;
 
     let priors = load_priors(&root, &questions)?;
     let out = settings.out.clone().unwrap_or_else(default_run_dir);

@@ -183,7 +183,11 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
     assert!(plot.starts_with("<svg") && plot.matches("<polyline").count() == 4);
     let output = contphy(&root(), &["bench", "physics", "--scenario", "fluid"]);
     assert_eq!(output.status.code(), Some(1));
-    assert!(stderr(&output).contains("rope only"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("no simulator for scenario `fluid` yet (simulators: rope)"),
+        "{}",
+        stderr(&output)
+    );
 }
 
 #[test]
@@ -231,4 +235,72 @@ fn dynamics_simulate_answers_every_demo_question_like_the_annotations() {
     let scores: serde_json::Value = serde_json::from_slice(&results[1]).unwrap();
     assert_eq!(scores["scores"]["units_answered"], 384);
     assert!(scores["scores"]["failures"].as_object().unwrap().is_empty());
+}
+
+/// Without a decoder, every command that would decode a video stops before its first unit with
+/// one line naming ffmpeg and how to install it (exit 1), instead of failing each unit.
+#[test]
+fn a_missing_decoder_stops_commands_before_their_first_unit() {
+    let empty = tempfile::tempdir().unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let run = out.path().join("run");
+    let generated = out.path().join("generated");
+    let cases: [(&str, Vec<&str>); 3] = [
+        (
+            "run",
+            vec![
+                "--data",
+                "eval/demo",
+                "--perception",
+                "maskrcnn",
+                "--dynamics",
+                "simulate",
+                "--out",
+                run.to_str().unwrap(),
+            ],
+        ),
+        (
+            "exec",
+            vec![
+                "exec",
+                "--video",
+                "eval/demo/pulley_group/0",
+                "--program",
+                "tests/fixtures/programs/color.py",
+                "--perception",
+                "maskrcnn",
+            ],
+        ),
+        (
+            "generate",
+            vec![
+                "generate",
+                "--videos",
+                "1",
+                "--frames",
+                "mp4",
+                "--out",
+                generated.to_str().unwrap(),
+            ],
+        ),
+    ];
+    let mut transcript = String::new();
+    for (name, args) in cases {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_contphy-eval"))
+            .args(&args)
+            .current_dir(root())
+            .env("NO_COLOR", "1")
+            .env("CONTPHY_FFMPEG_DIR", empty.path())
+            .output()
+            .unwrap();
+        let message = stderr(&output)
+            .replace(&out.path().display().to_string(), "[TEMP]")
+            .replace(&root().display().to_string(), "[ROOT]");
+        assert_eq!(output.status.code(), Some(1), "{name}: {message}");
+        assert_eq!(message.lines().count(), 1, "{name}: one line: {message}");
+        assert!(message.contains("ffmpeg"), "{name}: {message}");
+        let _ = writeln!(transcript, "## {name}\n{message}");
+    }
+    assert!(!run.join("predictions.jsonl").exists(), "no unit ran");
+    insta::assert_snapshot!("missing_decoder", transcript);
 }
