@@ -10,7 +10,7 @@
 //!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step;
 //!   [`rope::identify`] infers load masses from observed motion.
 //! * [`linalg`]: the small dense solvers they share.
-//! * [`bench`]: what each simulator brings to `bench physics` (cases with known answers).
+//! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known answers).
 
 pub mod bench;
 pub mod linalg;

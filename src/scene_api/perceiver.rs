@@ -37,9 +37,9 @@ use crate::perception::palette::palette_color;
 use crate::perception::tracking::{Track, TrackerConfig, track};
 
 /// Every how many frames the detector runs.
-pub(crate) const FRAME_STEP: usize = 10;
+pub const FRAME_STEP: usize = 10;
 /// The last frame it runs on (0-based; 2 s at the release's 30 fps).
-pub(crate) const LAST_FRAME: usize = 60;
+pub const LAST_FRAME: usize = 60;
 /// Least box IoU for a track to name an annotated object.
 const MIN_BINDING_IOU: f64 = 0.3;
 
@@ -111,7 +111,7 @@ pub struct Perceiver {
     video_dir: std::path::PathBuf,
     source: FrameSource,
     info: VideoInfo,
-    /// Detections of the first pass (frames 0, 10, …, 60), reused by [`Perceiver::positions`].
+    /// Detections of the first pass (frames 0, 10, …, 60), reused by [`Perceiver::full_pass`].
     kept: BTreeMap<usize, Vec<Detection>>,
     /// The first pass's tracks (empty until it ran).
     first: Vec<Track>,

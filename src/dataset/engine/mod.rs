@@ -1,7 +1,7 @@
 //! The question engine: generates ContPhy questions from a video's annotations, then samples and
 //! splits them.
 //!
-//! Shared here: the record format ([`record`]: the public engine's field order, lettered options,
+//! Shared here: the record format (`record`: the public engine's field order, lettered options,
 //! sorted answer letters), the sampler and the per-video split ([`sample_and_split`]), and the
 //! [`QuestionEngine`] each scenario provides. A scenario's families live in its folder
 //! (`engine/<scenario>/`); the scenario table (`scenarios`) names each scenario's engine.
