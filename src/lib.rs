@@ -7,9 +7,9 @@
 //!         ──► value ──► answer (per option) ──► score (Opt / Ques) ──► report
 //! ```
 //!
-//! Modules are layered (DESIGN.md §9) and data flows one way: `util` → `dataset` → `program` →
-//! `scene_api` → `sandbox` → `answer` → `score` → `report` → `app` → `cli`. A lower module never
-//! names a higher one; `tests/it/architecture.rs` enforces it.
+//! Modules are layered (`docs/architecture.md`, layers) and data flows one way: `util` → `dataset`
+//! → `program` → `scene_api` → `sandbox` → `answer` → `score` → `report` → `app` → `cli`. A lower
+//! module never names a higher one; `tests/it/architecture.rs` enforces it.
 
 pub mod answer;
 pub mod app;

@@ -3,11 +3,12 @@
 //!
 //! For each request the prompt is rendered (`prompt`), followed by the repair turns of earlier
 //! attempts; the cache key covers the model, the sampling parameters, every message, the
-//! template hash, the api_spec version and the sample index (DESIGN.md §6). Cache hits are
-//! replayed; misses go to the model, `--jobs` at a time; identical requests share one call; and
-//! each completion is written to the cache the moment it arrives, so a killed run loses no
-//! completion it paid for. A rejected key or an unknown model stops the run (exit 1); any other
-//! failure fails its unit at stage `llm`, or `extract` when the completion holds no program.
+//! template hash, the api_spec version and the sample index (`docs/architecture.md`, program
+//! cache). Cache hits are replayed; misses go to the model, `--jobs` at a time; identical requests
+//! share one call; and each completion is written to the cache the moment it arrives, so a killed
+//! run loses no completion it paid for. A rejected key or an unknown model stops the run (exit 1);
+//! any other failure fails its unit at stage `llm`, or `extract` when the completion holds no
+//! program.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicBool, Ordering};

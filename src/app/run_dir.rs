@@ -1,7 +1,7 @@
-//! The run directory (DESIGN.md §5): `manifest.json`, `questions.json` (what was evaluated, gold
-//! and baseline priors included, so the run re-scores on its own), `predictions.jsonl` (one line
-//! per unit, appended durably as units finish and rewritten in question order at the end),
-//! `results.json` and `report.md`.
+//! The run directory (`docs/architecture.md`, run directory): `manifest.json`, `questions.json`
+//! (what was evaluated, gold and baseline priors included, so the run re-scores on its own),
+//! `predictions.jsonl` (one line per unit, appended durably as units finish and rewritten in
+//! question order at the end), `results.json` and `report.md`.
 
 use std::collections::BTreeMap;
 use std::io::{BufRead as _, Write as _};

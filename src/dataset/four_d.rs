@@ -1,5 +1,6 @@
-//! Typed 4-D sensor data (`outputs4D.json`, `contphy/FORMAT.md` §1.5): rigid-body poses per frame
-//! and tracked soft-body particles per frame, in Unity world units (nominally metres) and degrees.
+//! Typed 4-D sensor data (`outputs4D.json`, `docs/data/common.md`, outputs4D.json): rigid-body
+//! poses per frame and tracked soft-body particles per frame, in Unity world units (nominally
+//! metres) and degrees.
 //!
 //! Mesh vertices and faces are validated for shape but not kept; voxels are kept because the
 //! simulators rebuild rigid bodies from them.

@@ -1,8 +1,9 @@
 //! Questions: the on-disk record of the question engine and its typed, validated form.
 //!
 //! A record (`docs/data/questions.md`) keeps choice options inside the question text
-//! (`"title\nA. …\nB. …"`) and the answer as sorted letters (`"A C"`). [`Question`] splits that into
-//! a title and [`ChoiceOption`]s with their gold truth, which is what per-option scoring needs.
+//! (`"title\nA. …\nB. …"`) and the answer as sorted letters (`"A C"`). [`Question`] splits that
+//! into a title and [`ChoiceOption`]s with their gold truth, which is what per-option scoring
+//! needs.
 
 use std::fmt;
 
@@ -184,8 +185,9 @@ impl Split {
     }
 }
 
-/// One question record as the engine writes it (`contphy/FORMAT.md` §6.1), with the sampler's
-/// fields (§6.2) when present. Unknown fields are kept, so a file round-trips unchanged.
+/// One question record as the engine writes it (`docs/data/questions.md`, record fields), with the
+/// sampler's fields (`docs/data/questions.md`, sampler and split) when present. Unknown fields are
+/// kept, so a file round-trips unchanged.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct QuestionRecord {
     /// The question text; choice options follow as `\nA. …` lines.

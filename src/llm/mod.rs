@@ -4,9 +4,9 @@
 //! (endpoint, key, timeouts, retry and rate limits). Output: a [`Completion`] (text, finish
 //! reason, usage, the model the server reported, the raw JSON, attempts) or a classified
 //! [`LlmError`]. It also owns the price table ([`Prices`]), a loopback mock server for tests
-//! ([`mock`]) and the `bench llm` measurements ([`bench`](mod@bench)). It knows nothing of questions,
-//! programs or the sandbox: it may use `crate::util` and, for types only, `crate::prompt` and
-//! `crate::dataset` (DESIGN.md §9).
+//! ([`mock`]) and the `bench llm` measurements ([`bench`](mod@bench)). It knows nothing of
+//! questions, programs or the sandbox: it may use `crate::util` and, for types only,
+//! `crate::prompt` and `crate::dataset` (`docs/architecture.md`, layers).
 //!
 //! Behaviour the rest of the crate relies on:
 //!

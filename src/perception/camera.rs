@@ -1,6 +1,7 @@
 //! The release camera: Unity's pinhole camera with Euler angles applied Z, then X, then Y, in a
 //! left-handed world (x right, y up, z forward), projecting to pixels with y pointing down
-//! (FORMAT.md §1.4, verified on the real rope video to within a pixel of its bounding boxes).
+//! (`docs/data/common.md`, camera, verified on the real rope video to within a pixel of its
+//! bounding boxes).
 //!
 //! Input: position (world units), Euler angles (degrees), vertical field of view (degrees) and the
 //! image size. Output: pixel coordinates of world points, camera-space depths, and the records the
@@ -160,7 +161,8 @@ impl CameraModel {
         rotation_to_quaternion(&self.rotation)
     }
 
-    /// The capture's row-major 3×3 intrinsic in NDC: `[f/aspect,0,0, 0,f,0, 0,0,-(far+near)/(far-near)]`.
+    /// The capture's row-major 3×3 intrinsic in NDC: `[f/aspect,0,0, 0,f,0,
+    /// 0,0,-(far+near)/(far-near)]`.
     pub fn intrinsic_ndc(&self) -> [f64; 9] {
         let f = self.focal();
         [

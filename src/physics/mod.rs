@@ -4,13 +4,14 @@
 //! Input: a mechanism described by the scene layer (bodies, pulleys, ropes), and for
 //! identification observed heights over time. Output: states over time, constraint forces,
 //! ranked mass candidates with verdicts, and typed errors for what cannot be simulated. Layer 1
-//! (DESIGN.md §9): uses only `util`.
+//! (`docs/architecture.md`, layers): uses only `util`.
 //!
 //! * [`rope`]: rope–pulley networks (ideal inextensible ropes that only pull, pulley inertia,
 //!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step;
 //!   [`rope::identify`] infers load masses from observed motion.
 //! * [`linalg`]: the small dense solvers they share.
-//! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known answers).
+//! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
+//!   answers).
 
 pub mod bench;
 pub mod linalg;

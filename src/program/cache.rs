@@ -1,4 +1,5 @@
-//! The content-addressed program cache (DESIGN.md §6): `DIR/v1/<2 hex>/<key>.json`.
+//! The content-addressed program cache (`docs/architecture.md`, program cache): `DIR/v1/<2
+//! hex>/<key>.json`.
 //!
 //! A key is the blake3 hash of the canonical JSON of everything that determines a program (for
 //! an LLM: model id, sampling parameters, rendered prompt, template hash, api_spec version; for

@@ -4,7 +4,8 @@
 //! Input: a [`Question`](crate::dataset::Question), the unit's option (per-option mode) and a
 //! [`PromptMode`]. Output: a [`RenderedPrompt`] (system and user message, the hash of the
 //! templates and api_spec files used, the api_spec version: all of it enters program-cache keys,
-//! DESIGN.md §6), or a [`PromptError`] naming the template and the variable.
+//! `docs/architecture.md`, program cache), or a [`PromptError`] naming the template and the
+//! variable.
 //!
 //! The prompt follows the paper's listing `tb:oracle_prompt`: the API, "Write a function using
 //! Python and the SoftScene class ...", the guidelines (with the objects of every scenario),
@@ -19,7 +20,7 @@
 //! empty string. The files are compiled in ([`PromptSet::embedded`]) so the binary works
 //! anywhere; [`PromptSet::load`] lays a directory of edited files over them.
 //!
-//! Layer 2 (DESIGN.md §9): this module uses only `dataset` and `util`.
+//! Layer 2 (`docs/architecture.md`, layers): this module uses only `dataset` and `util`.
 
 mod context;
 mod error;

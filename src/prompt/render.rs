@@ -27,7 +27,8 @@ const VERSION_PATH: &str = "api_spec/VERSION";
 const USED_EXAMPLES_VARIABLE: &str = "used_examples";
 
 /// A rendered prompt: the chat messages of one unit of work, and what identifies the prompt
-/// machinery that produced them (both enter program-cache keys, DESIGN.md §6).
+/// machinery that produced them (both enter program-cache keys, `docs/architecture.md`, program
+/// cache).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RenderedPrompt {
     /// The system message, if the set has one.

@@ -49,7 +49,7 @@ const RECURSION_LIMIT: usize = 1000;
 
 /// Native modules RustPython registers that no program needs and that touch the clock, the
 /// garbage collector or raw code objects; dropped so even the importer machinery cannot build
-/// them. (A whitelist of module definitions makes interpreter start-up fail: probe §2.)
+/// them. (A whitelist of module definitions makes interpreter start-up fail, as a probe showed.)
 const DENIED_MODULE_DEFINITIONS: &[&str] = &[
     "posix",
     "pwd",

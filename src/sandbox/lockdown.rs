@@ -1,7 +1,7 @@
 //! Lockdown: what a program cannot name, import or reach, checked before and enforced while it
 //! runs.
 //!
-//! Two layers (research/rustpython-sandbox.md §2 shows each alone is not enough):
+//! Two layers, because a probe of RustPython 0.5 found escapes past each one alone:
 //! * [`check_code`] walks the compiled code (nested functions and classes included) and rejects
 //!   `_`-prefixed names other than `_` and a short list of harmless dunders, and the attributes
 //!   that lead from generators, coroutines and tracebacks to frames (`gi_frame`, `tb_frame`,

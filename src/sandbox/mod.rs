@@ -6,7 +6,7 @@
 //! the locked-down RustPython interpreter, the host seam, the budgets, and the worker processes.
 //! It must not depend on the modules above it (`answer`, `score`, `report`, `app`, `cli`).
 //!
-//! Two layers (DESIGN.md §4):
+//! Two layers (`docs/architecture.md`, sandbox):
 //! 1. **Inside the interpreter** ([`Sandbox`]): no stdlib, builtins reduced to an allow-list,
 //!    `import` limited to `math`, `__future__` and the host's modules, a static check of every
 //!    name in the compiled code, a watchdog that interrupts programs past their own-time budget

@@ -43,7 +43,8 @@ fn set_soft_limit(resource: libc::__rlimit_resource_t, soft: u64) -> io::Result<
 }
 
 /// Caps the worker's address space: allocations beyond it fail, which RustPython mostly turns
-/// into `MemoryError` (probe §3) instead of growing until the machine's OOM killer steps in.
+/// into `MemoryError` (measured on RustPython 0.5) instead of growing until the machine's OOM
+/// killer steps in.
 pub(crate) fn limit_address_space(bytes: u64) -> io::Result<()> {
     set_soft_limit(libc::RLIMIT_AS, bytes)
 }

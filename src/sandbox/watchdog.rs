@@ -4,7 +4,7 @@
 //! output is interrupts sent through RustPython's user-signal channel. A soft interrupt raises
 //! `KeyboardInterrupt` in the program (a `BaseException`, so `except Exception` does not catch
 //! it). The watchdog re-sends it every tick, because one send can be delayed or eaten (the VM's
-//! wake-up flag is process-global: research/rustpython-sandbox.md §3), and after the grace
+//! wake-up flag is process-global, as probing RustPython 0.5 showed), and after the grace
 //! period it sends a hard interrupt instead: a [`HardInterrupt`] panic that unwinds out of the
 //! interpreter, which the sandbox then discards. That stops `while True: pass` inside
 //! `try: ... except BaseException: pass`.

@@ -7,7 +7,7 @@ use super::Priors;
 use crate::dataset::{AnswerType, Category, ChoiceOption, Question, Scenario};
 use crate::scene_api::WorkCounters;
 
-/// The pipeline stage where a unit failed (DESIGN.md §1).
+/// The pipeline stage where a unit failed (`docs/architecture.md`, pipeline).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Stage {

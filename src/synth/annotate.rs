@@ -1,7 +1,7 @@
 //! Image annotations of a rendered frame in the release's Unity Perception "solo" form
-//! (FORMAT.md §1.3): one RGB capture per step with a 2-D bounding-box annotation and an
-//! instance-segmentation annotation, both derived from the frame's instance-id image, so boxes
-//! and masks agree with the pixels by construction.
+//! (`docs/data/common.md`, image annotations): one RGB capture per step with a 2-D bounding-box
+//! annotation and an instance-segmentation annotation, both derived from the frame's instance-id
+//! image, so boxes and masks agree with the pixels by construction.
 
 use serde_json::{Value, json};
 

@@ -11,9 +11,10 @@
 //! the same loader as the real data (in `app`).
 //!
 //! Input: a [`GenerateOptions`]. Output: `OUT/<scenario folder>/<index>/` folders and a
-//! [`GenerateReport`]. Layer 2 (DESIGN.md §9): uses `util`, `dataset`, `physics`, `perception`.
+//! [`GenerateReport`]. Layer 2 (`docs/architecture.md`, layers): uses `util`, `dataset`, `physics`,
+//! `perception`.
 //!
-//! * [`rope`]: rope–pulley scenes (FORMAT.md §2).
+//! * [`rope`]: rope–pulley scenes (`docs/data/rope.md`).
 
 pub mod annotate;
 pub mod background;

@@ -1,7 +1,7 @@
 //! Shared low-level helpers: stable content hashing, seed derivation and crash-safe file writes.
 //!
 //! Inputs are bytes, JSON values and paths; outputs are hex digests, seeded RNGs and files on disk.
-//! This module depends on nothing else in the crate (layer 0 of DESIGN.md §9).
+//! This module depends on nothing else in the crate (layer 0 of `docs/architecture.md`, layers).
 
 mod fs;
 mod hash;

@@ -1,5 +1,6 @@
-//! DESIGN.md §9: data flows one way through the modules. This test walks `src/<module>/` and
-//! fails on any `crate::<other>` reference that points to a module at the same or a higher layer.
+//! `docs/architecture.md`, layers: data flows one way through the modules. This test walks
+//! `src/<module>/` and fails on any `crate::<other>` reference that points to a module at the same
+//! or a higher layer.
 
 use std::path::Path;
 
@@ -112,7 +113,7 @@ fn modules_only_depend_on_lower_layers() {
     );
     assert!(
         violations.is_empty(),
-        "dependencies against the flow of DESIGN.md §9:\n{}",
+        "dependencies against the flow of `docs/architecture.md`, layers:\n{}",
         violations.join("\n")
     );
 }

@@ -1,7 +1,7 @@
 //! Turning generated questions into [`QuestionRecord`]s in the public engine's exact form
-//! (`contphy/FORMAT.md` §6.1): field order `question, answer, question_family, positive, negative,
-//! program, answer_type`; options appended as `\nA. …`; answers as sorted letters joined by one
-//! space.
+//! (`docs/data/questions.md`, record fields): field order `question, answer, question_family,
+//! positive, negative, program, answer_type`; options appended as `\nA. …`; answers as sorted
+//! letters joined by one space.
 
 use std::collections::BTreeSet;
 
@@ -52,7 +52,7 @@ pub(crate) fn open_ended_record(
 
 /// A multiple-choice record with options lettered in the given order. `positive` and `negative`
 /// list option texts in letter order; the public engine built `negative` from a Python `set`, so
-/// its order was arbitrary (FORMAT §10.8), fixed here.
+/// its order was arbitrary (`docs/data/rope.md`, quirks of the public engine), fixed here.
 ///
 /// `None` (the question is dropped) when two options share a text, when no option is true, or
 /// when there are more options than letters. The public engine stopped in `breakpoint()` on a

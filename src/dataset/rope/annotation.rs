@@ -72,7 +72,8 @@ pub struct RopeCounterfactual {
 }
 
 /// A counterfactual record: sub-entry `"0"` was simulated; `"1"` is the generator's mirror (the
-/// opposite change with every sign negated), never simulated (`contphy/FORMAT.md` §2.3).
+/// opposite change with every sign negated), never simulated (`docs/data/rope.md`, counterfactual
+/// records).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RopeCounterfactualPair {
     /// The record key in `CounterFactualAnnotations`.

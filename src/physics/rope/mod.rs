@@ -1,5 +1,5 @@
 //! Rope–pulley mechanics: planar networks of fixed points, static pulleys, movable pulleys and
-//! loads joined by ideal inextensible ropes (FORMAT.md §2).
+//! loads joined by ideal inextensible ropes (`docs/data/rope.md`).
 //!
 //! Units are SI: metres, kilograms, seconds, newtons; `y` points up and [`GRAVITY`] pulls down.
 //! Angles are radians, counter-clockwise positive as seen by the camera.

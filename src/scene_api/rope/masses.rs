@@ -243,8 +243,8 @@ fn observed_masses(inference: &RopeMassInference, loads: &[&str]) -> Option<Vec<
     }
 }
 
-/// The benchmark's nominal mass of a simulated one, kg: `ceil(m·100)/100` (FORMAT.md §8.1), so a
-/// load of 1.975 × 0.2 kg reads 0.4.
+/// The benchmark's nominal mass of a simulated one, kg: `ceil(m·100)/100` (`docs/data/rope.md`,
+/// scene reading), so a load of 1.975 × 0.2 kg reads 0.4.
 fn nominal_kg(mass: f64) -> f64 {
     (mass * 100.0).ceil() / 100.0
 }

@@ -342,7 +342,8 @@ impl RopeBackend {
 
     /// The results of `event` by simulation: the video's masses for the factual run; for a
     /// mass counterfactual, every load at the counterfactual baseline (0.2 kg × its multiplier)
-    /// and the target 0.1 kg × multiplier lighter or heavier (FORMAT.md §2.3).
+    /// and the target 0.1 kg × multiplier lighter or heavier (`docs/data/rope.md`, timeline and
+    /// outcome labels).
     fn simulated_results(&self, event: &SceneEvent) -> Result<Outcomes, ApiError> {
         let key = (event.action as u8, event.object.map(|o| o.0));
         if let Some(done) = self

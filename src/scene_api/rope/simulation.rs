@@ -16,9 +16,10 @@
 //! with the rope, the rope wraps solid and hollow pulleys at their own radii, movable pulleys
 //! weigh 5 g; a factual run lasts the 500 updates after the masses change, a counterfactual run
 //! the 300 after its change. A pulled static pulley or fixed point moves at 2 units/s for 3.5
-//! units (7 for fixed points), as the generator's hand does (FORMAT.md §2.3). Loads and movable
-//! pulleys start at their first 4-D centroid when the video has one: the layout puts end loads
-//! 1.48 beside their pulley's centre, but they hang under its rim, 2.16 beside it.
+//! units (7 for fixed points), as the generator's hand does (`docs/data/rope.md`, timeline and
+//! outcome labels). Loads and movable pulleys start at their first 4-D centroid when the video has
+//! one: the layout puts end loads 1.48 beside their pulley's centre, but they hang under its rim,
+//! 2.16 beside it.
 
 use indexmap::IndexMap;
 
@@ -419,9 +420,9 @@ fn winding(particles: &[[f64; 3]], centre: [f64; 2], radius: f64, forward: bool)
 
 impl RopeOutcome {
     /// Every sign negated: how the generator writes a counterfactual record's second entry
-    /// (`"1"`, the opposite change), which it never simulates (FORMAT.md §2.3). A pull the
-    /// other way can be unphysical (a ceiling anchor pulled down past its pulley), so pull
-    /// mirrors are answered this way; mass mirrors (a heavier load) are simulated.
+    /// (`"1"`, the opposite change), which it never simulates (`docs/data/rope.md`, counterfactual
+    /// records). A pull the other way can be unphysical (a ceiling anchor pulled down past its
+    /// pulley), so pull mirrors are answered this way; mass mirrors (a heavier load) are simulated.
     #[must_use]
     pub fn negated(&self) -> RopeOutcome {
         RopeOutcome {

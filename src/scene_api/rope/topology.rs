@@ -3,9 +3,9 @@
 //!
 //! Every rope of the release is a chain: it starts at an end (a load, a fixed point, or a movable
 //! pulley's hook), runs in straight segments tangent to the pulleys it wraps, and stops at another
-//! end (FORMAT.md §2.1). So each hypothesis "the rope leaves node `a` on side `s_a` and reaches
-//! node `b` on side `s_b`" is one straight segment whose geometry is fixed by the nodes' centres
-//! and wrap radii; a hypothesis holds when the rope's pixels lie along it. [`read_ropes`]
+//! end (`docs/data/rope.md`, names). So each hypothesis "the rope leaves node `a` on side `s_a` and
+//! reaches node `b` on side `s_b`" is one straight segment whose geometry is fixed by the nodes'
+//! centres and wrap radii; a hypothesis holds when the rope's pixels lie along it. [`read_ropes`]
 //! searches the chains of segments the rope's pixels support and keeps, per rope, the one that
 //! explains the most rope length.
 //!

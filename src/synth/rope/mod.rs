@@ -1,4 +1,4 @@
-//! Rope–pulley scenes (`pulley_group`, FORMAT.md §2): layouts sampled as the release samples
+//! Rope–pulley scenes (`pulley_group`, `docs/data/rope.md`): layouts sampled as the release samples
 //! them ([`layout`]), simulated with `physics::rope` through the release's timeline
 //! ([`simulate`]), described for rendering and as 4-D data ([`scene`]), and assembled into the
 //! release's `outputs.json` here.
@@ -238,7 +238,7 @@ fn mass_json(layout: &Layout, masses: &[f64]) -> Value {
 
 /// The counterfactual records: a pull of every static pulley and fixed point of a group with
 /// exactly one load, then a lighter run for every load; each with its mirror (the opposite
-/// change, every sign negated, never simulated, FORMAT.md §2.3).
+/// change, every sign negated, never simulated, `docs/data/rope.md`, timeline and outcome labels).
 fn counterfactuals(
     layout: &Layout,
     model: &TruthModel,

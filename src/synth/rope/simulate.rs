@@ -1,10 +1,10 @@
 //! The ground truth of a generated rope video: the layout's mechanism built with the release's
 //! prefab physics (static pulleys are 1 kg discs turning with the rope, movable pulleys 5 g,
 //! ropes wrapping at the pulleys' wrap radii on the sides the release's orientation rule gives)
-//! and simulated through the release's timeline (FORMAT.md §2.3): 100 updates with every load at
-//! the baseline mass, the change at update 100 (the factual random masses, a counterfactual mass
-//! change, or a pulled pulley or anchor), then 500 (factual) or 300 (counterfactual) updates,
-//! with motion and rotation latched at their first threshold crossing.
+//! and simulated through the release's timeline (`docs/data/rope.md`, timeline and outcome labels):
+//! 100 updates with every load at the baseline mass, the change at update 100 (the factual random
+//! masses, a counterfactual mass change, or a pulled pulley or anchor), then 500 (factual) or 300
+//! (counterfactual) updates, with motion and rotation latched at their first threshold crossing.
 //!
 //! Input: a [`Layout`]. Output: [`RunResult`]s (signs, tensions at the change, recorded frames)
 //! and the validity checks of the release (movable pulleys that drift more than 0.9 units or

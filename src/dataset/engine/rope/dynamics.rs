@@ -1,5 +1,6 @@
 //! The dynamics families: `rope_counterfactual`, `rope_counterfactual2` and `rope_goaldriven`
-//! (`contphy/FORMAT.md` §8.5–8.7), all built from the mass counterfactual records.
+//! (`docs/data/rope.md`, counterfactual and goal-driven options), all built from the mass
+//! counterfactual records.
 //!
 //! Each mass counterfactual sub-entry (`"0"` simulated, `"1"` mirrored) says how every pulley
 //! turned (`ResultRotation`, +1 clockwise on screen) and how every pulley and load moved
@@ -200,12 +201,13 @@ pub(super) fn counterfactual_questions(
     records
 }
 
-/// Splits one counterfactual's true and false outcomes into option lists (FORMAT §8.5).
+/// Splits one counterfactual's true and false outcomes into option lists (`docs/data/rope.md`,
+/// counterfactual and goal-driven options).
 ///
-/// * One true outcome: it plus two random false ones. Bug fix (FORMAT §10.8): the public engine
-///   built this question's answer on a stale or uninitialised `answer` variable (a crash, or
-///   extra/duplicated correct letters); the answer now follows from the options emitted, which
-///   carry their own truth.
+/// * One true outcome: it plus two random false ones. Bug fix (`docs/data/rope.md`, quirks of the
+///   public engine): the public engine built this question's answer on a stale or uninitialised
+///   `answer` variable (a crash, or extra/duplicated correct letters); the answer now follows from
+///   the options emitted, which carry their own truth.
 /// * One false outcome: it plus two random true ones. Bug fix: the public engine labelled every
 ///   option false here. The branch is unreachable from real data (each asked-about object adds at
 ///   least one false outcome and at most one true one), but stays correct if that changes.
@@ -449,10 +451,10 @@ pub(super) fn goal_driven_questions(
     records
 }
 
-/// The options of one goal-driven question from shuffled true and false levers (FORMAT §8.7):
-/// one true lever plus two false ones when only one is true (`None` if fewer than two false
-/// exist); otherwise one true lever plus 2–4 more drawn in proportion to the pools, or all of
-/// them when no more remain.
+/// The options of one goal-driven question from shuffled true and false levers
+/// (`docs/data/rope.md`, counterfactual and goal-driven options): one true lever plus two false
+/// ones when only one is true (`None` if fewer than two false exist); otherwise one true lever plus
+/// 2–4 more drawn in proportion to the pools, or all of them when no more remain.
 fn goal_option_set(
     mut true_options: Vec<DraftOption>,
     mut false_options: Vec<DraftOption>,

@@ -1,5 +1,5 @@
 //! The property families: `mass`, `tension`, `shape`, `color` and `existence`
-//! (`contphy/FORMAT.md` §8.2–8.3). One function per family; each takes the scene and the
+//! (`docs/data/rope.md`, question engine). One function per family; each takes the scene and the
 //! video's RNG and returns the family's records in generation order.
 //!
 //! Mass and tension statements are drawn as in the public `_fetch_comp_factor`: a comparator and
@@ -245,8 +245,8 @@ fn load_pairs(scene: &RopeScene) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// `mass`: "Is the mass of the {c1} {s1} {cmp} {fac}that of the {c2} {s2}?" for each ordered pair of
-/// loads.
+/// `mass`: "Is the mass of the {c1} {s1} {cmp} {fac}that of the {c2} {s2}?" for each ordered pair
+/// of loads.
 pub(super) fn mass_questions(scene: &RopeScene, rng: &mut impl Rng) -> Vec<QuestionRecord> {
     let mut records = Vec::new();
     for (first, second) in load_pairs(scene) {
@@ -308,7 +308,8 @@ fn rope_is_ambiguous(scene: &RopeScene, rope: usize) -> bool {
 /// `tension`: "Is the tension of the {c1} rope {cmp} {fac}that of the {c2} rope?", answered from
 /// the masses of one load on each rope, for each ordered pair of loads on different ropes. As in
 /// the public engine, tension is taken to follow the hanging mass and `ResultTension` is not used
-/// (FORMAT §10.4); two load pairs can yield the same question, which is kept.
+/// (`docs/data/rope.md`, quirks of the release's data); two load pairs can yield the same question,
+/// which is kept.
 pub(super) fn tension_questions(scene: &RopeScene, rng: &mut impl Rng) -> Vec<QuestionRecord> {
     let mut records = Vec::new();
     for (first, second) in load_pairs(scene) {

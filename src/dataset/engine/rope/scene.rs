@@ -1,5 +1,6 @@
 //! The engine's view of one rope video: its object list and the relations between loads, ported
-//! from the public engine's `read_file.read_annotation_pulley` (`contphy/FORMAT.md` §8.1).
+//! from the public engine's `read_file.read_annotation_pulley` (`docs/data/rope.md`, scene
+//! reading).
 //!
 //! Input: a validated [`RopeAnnotation`]. Output: a [`RopeScene`] holding
 //!
@@ -8,13 +9,14 @@
 //!   `relatedGroupsInRope` element lists);
 //! * which loads are related (same `relatedGroups` group), which hang under a movable pulley,
 //!   and which rope each load hangs on;
-//! * the phrase each object is called by in question text (FORMAT §8.4).
+//! * the phrase each object is called by in question text (`docs/data/rope.md`, reference phrases).
 //!
 //! Decisions that differ from the public engine, each also marked where it is made:
 //!
-//! * **No de-duplication** (FORMAT §10.9). The public `add_object` dropped an object whose
-//!   colour, shape, dynamics, class, mass and tension equalled an existing one, so two same-colour
-//!   same-size static pulleys counted once. Here every distinct annotation name is one object.
+//! * **No de-duplication** (`docs/data/rope.md`, quirks of the public engine). The public
+//!   `add_object` dropped an object whose colour, shape, dynamics, class, mass and tension equalled
+//!   an existing one, so two same-colour same-size static pulleys counted once. Here every distinct
+//!   annotation name is one object.
 //! * **Unambiguous references only.** An object whose lower-case name without grid suffix is
 //!   shared with another object cannot be told apart in question text; it is still counted, but
 //!   no question or option refers to it (the public engine emitted duplicate or conflicting
@@ -56,7 +58,8 @@ pub struct EngineObject {
     /// pulley carry the generator's ×1.975 factor, so they read 0.3, 0.4 or 0.5.
     pub nominal_mass_kg: Option<f64>,
     /// Ropes only: `|first ResultTension value|`, N. Measured under the equal-mass baseline and
-    /// never used by any question (FORMAT §10.4); kept to mirror the public engine's state.
+    /// never used by any question (`docs/data/rope.md`, quirks of the release's data); kept to
+    /// mirror the public engine's state.
     pub rope_tension_newtons: Option<f64>,
 }
 
@@ -109,8 +112,9 @@ impl RopeScene {
         let mut objects = read_loads(video_id, annotation)?;
         objects.extend(read_ropes(video_id, annotation)?);
         let pulleys = read_pulleys_and_fixed_points(video_id, annotation)?;
-        // Decision (a), FORMAT §10.9: no attribute-based de-duplication. Only a repeated
-        // annotation name (the same pulley listed under two ropes) is the same object.
+        // Decision (a), `docs/data/rope.md`, quirks of the public engine: no attribute-based
+        // de-duplication. Only a repeated annotation name (the same pulley listed under two ropes)
+        // is the same object.
         for pulley in pulleys {
             if !objects
                 .iter()
@@ -457,10 +461,11 @@ fn map_loads_to_ropes(
     load_ropes
 }
 
-/// The phrase for object `index` (the public engine's `abbr_object_name`, FORMAT §8.4):
-/// `<colour> <type>` if that pair is unique, else `<colour> <solid|hollow> <type>`, else
-/// `<colour> <static|dynamic> <type>`, else the full lower-case name. `None` when even the full
-/// name is shared with another object: such an object cannot be referred to unambiguously.
+/// The phrase for object `index` (the public engine's `abbr_object_name`, `docs/data/rope.md`,
+/// reference phrases): `<colour> <type>` if that pair is unique, else `<colour> <solid|hollow>
+/// <type>`, else `<colour> <static|dynamic> <type>`, else the full lower-case name. `None` when
+/// even the full name is shared with another object: such an object cannot be referred to
+/// unambiguously.
 fn reference_name(objects: &[EngineObject], index: usize) -> Option<String> {
     // Only pulley names carry shape and dynamics words; the public engine parsed them from names.
     fn pulley_words(object: &EngineObject) -> Option<(&str, &str)> {

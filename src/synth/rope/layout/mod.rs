@@ -2,7 +2,7 @@
 //! `SampleScheme` (a serpentine walk over a grid of 1–2 layers placing static pulleys, movable
 //! pulleys and rope ends), `SequenceScheme` (grid slots to world positions, rope ends to loads
 //! and fixed points, colour pools), the limit of two dynamic nodes per cable, names, related
-//! groups and the random re-arrangement of groups (FORMAT.md §2, and the generator's
+//! groups and the random re-arrangement of groups (`docs/data/rope.md`, and the generator's
 //! `PulleyGroupManager`; the probabilities and constants below are its configuration).
 //!
 //! Input: an RNG. Output: a [`Layout`]: elements with positions (world units), ropes as element
