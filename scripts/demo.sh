@@ -20,8 +20,10 @@ if [ -z "${CONTPHY_FFMPEG_DIR:-}" ] && ! command -v ffmpeg >/dev/null 2>&1; then
   fi
   if [ "${sudo}" != unavailable ] && command -v apt-get >/dev/null 2>&1; then
     echo "demo: installing ffmpeg (apt-get) to decode the demo video ..." >&2
-    ${sudo} apt-get update -qq >/dev/null
-    DEBIAN_FRONTEND=noninteractive ${sudo} apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null
+    if ! { ${sudo} apt-get update -qq >/dev/null &&
+      DEBIAN_FRONTEND=noninteractive ${sudo} apt-get install -y -qq --no-install-recommends ffmpeg >/dev/null; }; then
+      echo "demo: apt-get could not install ffmpeg" >&2
+    fi
   fi
   if ! command -v ffmpeg >/dev/null 2>&1; then
     echo "demo: ffmpeg is needed to decode the demo video; install it (Debian/Ubuntu: sudo apt-get install ffmpeg) and run scripts/demo.sh again" >&2
