@@ -226,6 +226,27 @@ mod tests {
     }
 
     #[test]
+    fn a_video_folder_outside_the_scenario_folders_needs_its_scenario_given() {
+        let root = tempfile::tempdir().unwrap();
+        let loose = root.path().join("videos/7");
+        write(&loose.join("outputs.json"), r#"{"validity": true}"#);
+        let error = VideoFolder::open(&loose, None).unwrap_err().to_string();
+        assert!(
+            error.starts_with("cannot tell the scenario of video folder")
+                && error.contains("pass --scenario"),
+            "{error}"
+        );
+        let given = VideoFolder::open(&loose, Some(Scenario::Rope)).unwrap();
+        assert_eq!((given.scenario, given.id.0.as_str()), (Scenario::Rope, "7"));
+        let inside = root.path().join("pulley_group/3");
+        write(&inside.join("outputs.json"), r#"{"validity": true}"#);
+        assert_eq!(
+            VideoFolder::open(&inside, None).unwrap().scenario,
+            Scenario::Rope
+        );
+    }
+
+    #[test]
     fn missing_pieces_are_named() {
         let root = tempfile::tempdir().unwrap();
         let missing = DataRoot::open(&root.path().join("nope")).unwrap_err();
