@@ -2,7 +2,7 @@
 //! poses per frame and tracked soft-body particles per frame, in Unity world units (nominally
 //! metres) and degrees.
 //!
-//! Mesh vertices and faces are validated for shape but not kept; voxels are kept because the
+//! Mesh vertices and faces are not read (nothing uses them yet); voxels are kept because the
 //! simulators rebuild rigid bodies from them.
 
 use std::path::Path;
