@@ -17,7 +17,7 @@ use serde_json::json;
 
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
-use super::prerequisites::{ModelOverrides, check_frames, resolve_models};
+use super::prerequisites::{ModelOverrides, check_frames, model_files};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
 use crate::perception::ScenarioPerception;
 use crate::perception::classes::ClassTable;
@@ -300,12 +300,10 @@ struct ScoredVideo {
 
 /// `bench perception`.
 pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<ExitCode, AppError> {
-    let (scenario, perception) =
+    let (scenario, _) =
         perceived_scenario(std::slice::from_ref(&settings.data), settings.scenario)?;
-    let models = resolve_models(PerceptionBackend::MaskRcnn, [scenario], &settings.models)?;
-    let models = models
-        .get(&scenario)
-        .ok_or_else(|| user_error(format!("no perception models for {scenario} scenes")))?;
+    // Loaded once, here: a missing runtime or a broken model is its own one-line error.
+    let (perception, models) = model_files(scenario, &settings.models)?;
     let colors = ColorModel::read(&models.colors).user()?;
     let mut detector = Detector::load(
         DetectorConfig::new(models.detector.clone(), settings.threads),
@@ -362,7 +360,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
     let video_count = run.len();
     let metrics = score_run(run, detector.classes())?;
     let reading = match scenarios::parts(scenario).reading_check {
-        Some(check) => check(&videos, models).user()?,
+        Some(check) => check(&videos, &models).user()?,
         None => serde_json::Value::Null,
     };
     let per_frame = |ms: f64| ms / timing.frames.max(1) as f64;

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::{AppError, Classify as _, user_error};
 use crate::dataset::{Scenario, VideoFolder};
+use crate::perception::ScenarioPerception;
 use crate::perception::color::ColorModel;
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::frames::{FrameSource, FramesError, Stream, ffmpeg_available};
@@ -47,28 +48,7 @@ pub(super) fn resolve_models(
         if resolved.contains_key(&scenario) {
             continue;
         }
-        let Some(perception) = scenarios::parts(scenario).perception else {
-            return Err(user_error(format!(
-                "--perception maskrcnn: there is no perception for {scenario} scenes yet (scenarios with perception: {})",
-                scenarios::names_with(|row| row.perception.is_some())
-            )));
-        };
-        let absolute =
-            |path: &Path| std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-        let models = PerceptionModels {
-            detector: absolute(
-                overrides
-                    .detector
-                    .as_deref()
-                    .unwrap_or(Path::new(perception.detector)),
-            ),
-            colors: absolute(
-                overrides
-                    .colors
-                    .as_deref()
-                    .unwrap_or(Path::new(perception.colors)),
-            ),
-        };
+        let (perception, models) = model_files(scenario, overrides)?;
         ColorModel::read(&models.colors).user()?;
         Detector::load(
             DetectorConfig::new(models.detector.clone(), 1),
@@ -78,6 +58,29 @@ pub(super) fn resolve_models(
         resolved.insert(scenario, models);
     }
     Ok(resolved)
+}
+
+/// `scenario`'s perception and its model files (the command line's, else the scenario table's),
+/// made absolute, without loading them; an error when the scenario has no perception.
+pub(super) fn model_files(
+    scenario: Scenario,
+    overrides: &ModelOverrides,
+) -> Result<(&'static ScenarioPerception, PerceptionModels), AppError> {
+    let Some(perception) = scenarios::parts(scenario).perception else {
+        return Err(user_error(format!(
+            "--perception maskrcnn: there is no perception for {scenario} scenes yet (scenarios with perception: {})",
+            scenarios::names_with(|row| row.perception.is_some())
+        )));
+    };
+    let absolute = |given: Option<&Path>, default: &str| {
+        let path = given.unwrap_or(Path::new(default));
+        std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
+    };
+    let models = PerceptionModels {
+        detector: absolute(overrides.detector.as_deref(), perception.detector),
+        colors: absolute(overrides.colors.as_deref(), perception.colors),
+    };
+    Ok((perception, models))
 }
 
 /// The content hashes of each scenario's detector and colour models (part of a run's

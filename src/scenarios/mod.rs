@@ -66,6 +66,25 @@ impl std::fmt::Debug for ScenarioParts {
     }
 }
 
+impl ScenarioParts {
+    /// A scenario that so far has only its words: every other part is `None`.
+    const fn words_only(scenario: Scenario, vocabulary: &'static Vocabulary) -> ScenarioParts {
+        ScenarioParts {
+            scenario,
+            demo: None,
+            vocabulary,
+            engine: None,
+            synth: None,
+            writer: None,
+            scene: None,
+            perception: None,
+            reading_check: None,
+            inference_bench: None,
+            physics_bench: None,
+        }
+    }
+}
+
 /// The table, in the paper's order.
 static TABLE: [ScenarioParts; 4] = [
     ScenarioParts {
@@ -81,45 +100,9 @@ static TABLE: [ScenarioParts; 4] = [
         inference_bench: Some(scene_api::rope::inference_report),
         physics_bench: Some(&physics::rope::bench::BENCH),
     },
-    ScenarioParts {
-        scenario: Scenario::Fluid,
-        demo: None,
-        vocabulary: &dataset::fluid::VOCABULARY,
-        engine: None,
-        synth: None,
-        writer: None,
-        scene: None,
-        perception: None,
-        reading_check: None,
-        inference_bench: None,
-        physics_bench: None,
-    },
-    ScenarioParts {
-        scenario: Scenario::Cloth,
-        demo: None,
-        vocabulary: &dataset::cloth::VOCABULARY,
-        engine: None,
-        synth: None,
-        writer: None,
-        scene: None,
-        perception: None,
-        reading_check: None,
-        inference_bench: None,
-        physics_bench: None,
-    },
-    ScenarioParts {
-        scenario: Scenario::Ball,
-        demo: None,
-        vocabulary: &dataset::ball::VOCABULARY,
-        engine: None,
-        synth: None,
-        writer: None,
-        scene: None,
-        perception: None,
-        reading_check: None,
-        inference_bench: None,
-        physics_bench: None,
-    },
+    ScenarioParts::words_only(Scenario::Fluid, &dataset::fluid::VOCABULARY),
+    ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),
+    ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY),
 ];
 
 /// Every row, in the paper's order.

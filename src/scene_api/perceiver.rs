@@ -28,7 +28,7 @@ use super::error::ApiError;
 use super::scene::PerceptionModels;
 use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
-use crate::perception::classes::{Class, ClassTable, ScenarioClasses};
+use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::Detection;
 use crate::perception::detector::{Detector, DetectorConfig};
@@ -75,7 +75,16 @@ fn unavailable(error: impl std::fmt::Display) -> ApiError {
 /// The loaded models, shared by every scene of the process, with the scenario classes they
 /// were loaded for (its class list identifies it); replaced when a scene asks for other files
 /// or another scenario.
-static LOADED: Mutex<Option<(PerceptionModels, usize, Detector, ColorModel)>> = Mutex::new(None);
+static LOADED: Mutex<Option<Loaded>> = Mutex::new(None);
+
+/// Models loaded for one scenario.
+struct Loaded {
+    files: PerceptionModels,
+    /// The scenario's class list (its identity: one static list per scenario).
+    classes: &'static [ClassWords],
+    detector: Detector,
+    colors: ColorModel,
+}
 
 /// Runs `work` with the detector and colour model of `models`, loading them on first use.
 fn with_models<T>(
@@ -83,19 +92,22 @@ fn with_models<T>(
     classes: ScenarioClasses,
     work: impl FnOnce(&mut Detector, &ColorModel) -> Result<T, ApiError>,
 ) -> Result<T, ApiError> {
-    let scenario = classes.classes.as_ptr() as usize;
     let mut loaded = LOADED.lock().unwrap_or_else(PoisonError::into_inner);
-    if loaded
-        .as_ref()
-        .is_none_or(|(files, key, _, _)| files != models || *key != scenario)
-    {
+    if loaded.as_ref().is_none_or(|current| {
+        current.files != *models || !std::ptr::eq(current.classes, classes.classes)
+    }) {
         let colors = ColorModel::read(&models.colors).map_err(unavailable)?;
         let detector = Detector::load(DetectorConfig::new(models.detector.clone(), 1), classes)
             .map_err(unavailable)?;
-        *loaded = Some((models.clone(), scenario, detector, colors));
+        *loaded = Some(Loaded {
+            files: models.clone(),
+            classes: classes.classes,
+            detector,
+            colors,
+        });
     }
     match loaded.as_mut() {
-        Some((_, _, detector, colors)) => work(detector, colors),
+        Some(current) => work(&mut current.detector, &current.colors),
         None => Err(unavailable("the models could not be kept loaded")),
     }
 }
@@ -291,9 +303,12 @@ impl Perceiver {
                 .read(batch)
                 .map_err(|e| ApiError::Data(e.to_string()))?;
             self.work.0 += frames.len() as u64;
+            let known = self.table.is_some();
             let mut table = None;
             with_models(&self.models, self.classes, |detector, colors| {
-                table = Some(detector.classes().clone());
+                if !known {
+                    table = Some(detector.classes().clone());
+                }
                 for frame in &frames {
                     let mut detections = detector.detect(frame).map_err(unavailable)?;
                     name_colors(frame, &mut detections, colors);
@@ -302,7 +317,7 @@ impl Perceiver {
                 Ok(())
             })?;
             self.work.1 += frames.len() as u64;
-            if self.table.is_none() {
+            if table.is_some() {
                 self.table = table;
             }
             if let Some(frame) = frames.into_iter().find(|f| Some(f.index) == keep) {
