@@ -1,6 +1,10 @@
 """Write models/maskrcnn-rope.json from a checkpoint's metadata and evaluate.py's JSON.
 
-  python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json [--score-thresh 0.3 --nms 0.5 --detections 24]
+  python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA [--score-thresh 0.3 --nms 0.5 --detections 24]
+
+DATA is the directory holding the generated data roots the caches were made from (train-rand/,
+train-rel/): every training video is listed with the SHA-256 of its outputs.json, so a test can
+check that the real video is not among them.
 """
 import argparse
 import hashlib
@@ -10,11 +14,24 @@ import os
 from common import CLASSES, IN_H, IN_W
 
 GENERATE = [
-    "contphy-eval generate --scenario rope --videos 60 --seed 101 --out train-rope --frames png "
+    "contphy-eval generate --scenario rope --videos 48 --seed 3101 --out train-rand --frames png "
+    "--resolution 960x540 --jobs 1 --quiet --appearance randomized",
+    "contphy-eval generate --scenario rope --videos 24 --seed 3102 --out train-rel --frames png "
     "--resolution 960x540 --jobs 1 --quiet",
     "contphy-eval generate --scenario rope --videos 12 --seed 909 --out heldout-rope --frames png "
     "--resolution 960x540 --jobs 1 --quiet",
 ]
+
+
+def training_videos(files, videos_root):
+    """[{video, outputs_sha256}] of the cache files (train-rand/5.npz -> train-rand/pulley_group/5)."""
+    out = []
+    for f in files:
+        root, name = os.path.split(f)
+        video = os.path.join(root, "pulley_group", os.path.splitext(name)[0])
+        data = open(os.path.join(videos_root, video, "outputs.json"), "rb").read()
+        out.append({"video": video, "outputs_sha256": hashlib.sha256(data).hexdigest()})
+    return out
 
 
 def main():
@@ -26,6 +43,7 @@ def main():
     ap.add_argument("--score-thresh", type=float, default=0.3)
     ap.add_argument("--nms", type=float, default=0.5)
     ap.add_argument("--detections", type=int, default=24)
+    ap.add_argument("--videos", required=True, help="directory holding the generated data roots")
     ap.add_argument("--loss-csv", help="train.py's loss.csv: final losses = mean of its last 10 rows")
     a = ap.parse_args()
     ck = json.load(open(a.ckpt_json))
@@ -70,25 +88,24 @@ def main():
             "optimizer": f"AdamW lr {args['lr']} wd 1e-4, {args['warmup']}-iteration linear warm-up, cosine decay "
                          "over the wall-clock budget to 5%, grad-norm clip 10",
             "torch_threads": args["threads"], "final_losses": final,
-            "seconds_per_iteration": "1.17 (first 500, data still loading, contended) falling to 0.60 (last 1250)",
-            "augmentation": "horizontal flip p=0.5, brightness x U(0.8,1.2) (no hue/saturation change)",
+            "seconds_per_iteration": round(ck["seconds"] / max(ck["iter"], 1), 3),
+            "augmentation": "scale x U(0.8,1.25) with a random shift (p=0.7), horizontal flip p=0.5, brightness "
+                            "x U(0.75,1.25), contrast x U(0.8,1.2), saturation x U(0.85,1.15); hue never changed. "
+                            "The generator randomises light, wall, colours (within their names), noise and blur "
+                            "(--appearance randomized)",
         },
         "data": {
             "generated": {
                 "commands": GENERATE,
                 "train_videos": ck["generated_videos"], "train_frames": ck["generated_frames"],
+                "mix": "train-rand (randomised appearance) and train-rel (the release's look), sampled uniformly by frame",
                 "frames_note": "every 3rd frame of each video (offset video_id % 3); 960x540 PNG -> 480x270 by "
                                "2x2 box average (round half up); masks: an instance owns an output pixel if it "
                                "covers >= 2 of its 4 source pixels; instances under 6 pixels dropped",
                 "frame_key": "frame_NNNNN.png is annotation key NNNNN+1 (checked: boxes equal mask boxes)",
             },
-            "real": {
-                "video": "ContPhy sample rope/0 (1920x1080, 150 frames); mp4 frame i (0-based) = annotation key i+1",
-                "train_keys": ck["real_keys"], "real_prob": args["real_prob"],
-                "held_out_keys": "101..150 (never trained on)",
-                "frames_note": "4x4 box average; seg mp4 pixels assigned to the nearest instance colour of the frame "
-                               "within RGB distance 80, else background; >= 8 of 16 coverage",
-            },
+            "training_videos": training_videos(ck["training_files"], a.videos),
+            "real": "none: the release's real video is a held-out test only (no real frame in any training set)",
         },
         "metrics": ev,
         "metrics_note": "AP@0.5 (all-point interpolated), per class, onnxruntime with the baked-in score threshold "

@@ -1,9 +1,12 @@
 """Train the contphy-eval Mask R-CNN on 480x270 caches (prep_data.py) with a wall-clock budget.
 
-  python train.py --cache CACHE_DIR --real REAL_NPZ --out CKPT_DIR --minutes 50
-Generated videos are re-scanned every 100 iterations (generation may still be running).
-Real frames with annotation keys <= --real-max-key (every --real-every-th) are mixed in with
-probability --real-prob; keys above it are held out.
+  python train.py --cache CACHE_DIR [--cache CACHE_DIR ...] --out CKPT_DIR --minutes 55
+Generated videos only: the real video is a held-out test and never an input here. The cache
+directories are re-scanned every 100 iterations (generation may still be running); the
+checkpoint's metadata lists every cache file trained on.
+Augmentation (the camera and the sensor, beyond what the generator randomises): horizontal flip,
+scale x U(0.8, 1.25) with a random shift (the release camera re-frames each scene), brightness,
+contrast and saturation. Hue is never changed: colour names are labels.
 """
 import argparse
 import csv
@@ -22,49 +25,73 @@ from model import CONFIG, build_model
 
 
 class Pool:
-    def __init__(self, cache, real, real_max_key, real_every):
-        self.cache = cache
-        self.loaded = set()
+    def __init__(self, caches):
+        self.caches = caches
+        self.loaded = []
         self.gen = []  # (imgs, inst, classes, index)
-        self.real = []
-        d = np.load(real)
-        for i, k in enumerate(d["keys"]):
-            if k <= real_max_key and (k - 1) % real_every == 0:
-                self.real.append((d["imgs"], d["inst"], d["classes"], i))
-        self.real_keys = [int(d["keys"][i]) for *_, i in self.real]
         self.rescan()
 
     def rescan(self):
-        for p in sorted(glob.glob(os.path.join(self.cache, "*.npz"))):
-            if p in self.loaded:
-                continue
-            try:
-                d = np.load(p)
-                imgs, inst, cls = d["imgs"], d["inst"], d["classes"]
-            except Exception:
-                continue
-            self.loaded.add(p)
-            for i in range(len(imgs)):
-                self.gen.append((imgs, inst, cls, i))
+        for cache in self.caches:
+            for p in sorted(glob.glob(os.path.join(cache, "*.npz"))):
+                if p in self.loaded:
+                    continue
+                try:
+                    d = np.load(p)
+                    imgs, inst, cls = d["imgs"], d["inst"], d["classes"]
+                except Exception:
+                    continue
+                self.loaded.append(p)
+                for i in range(len(imgs)):
+                    self.gen.append((imgs, inst, cls, i))
 
-    def sample(self, rng, real_prob):
-        src = self.real if (self.real and rng.random() < real_prob) else self.gen
-        return src[rng.randrange(len(src))]
+    def sample(self, rng):
+        return self.gen[rng.randrange(len(self.gen))]
+
+
+def rescale(img, m, rng):
+    """Scale by U(0.8, 1.25) about a random point and crop/pad back to the input size (padding
+    with the image's median colour, the wall)."""
+    h, w = m.shape
+    s = rng.uniform(0.8, 1.25)
+    nh, nw = max(1, round(h * s)), max(1, round(w * s))
+    ys = np.clip(((np.arange(nh) + 0.5) / s - 0.5).round().astype(int), 0, h - 1)
+    xs = np.clip(((np.arange(nw) + 0.5) / s - 0.5).round().astype(int), 0, w - 1)
+    # Bilinear for the image, nearest for the instance map.
+    t = torch.from_numpy(np.ascontiguousarray(img.transpose(2, 0, 1)))[None]
+    big = torch.nn.functional.interpolate(t, size=(nh, nw), mode="bilinear", align_corners=False)[0]
+    big = big.numpy().transpose(1, 2, 0)
+    bm = m[ys][:, xs]
+    out = np.empty_like(img)
+    out[:] = np.median(img.reshape(-1, 3), axis=0)
+    om = np.zeros_like(m)
+    oy = rng.randint(min(0, h - nh), max(0, h - nh))
+    ox = rng.randint(min(0, w - nw), max(0, w - nw))
+    sy0, dy0 = max(0, -oy), max(0, oy)
+    sx0, dx0 = max(0, -ox), max(0, ox)
+    ch, cw = min(nh - sy0, h - dy0), min(nw - sx0, w - dx0)
+    out[dy0:dy0 + ch, dx0:dx0 + cw] = big[sy0:sy0 + ch, sx0:sx0 + cw]
+    om[dy0:dy0 + ch, dx0:dx0 + cw] = bm[sy0:sy0 + ch, sx0:sx0 + cw]
+    return out, om
 
 
 def make_sample(item, rng):
     imgs, inst, cls, i = item
     img = imgs[i].astype(np.float32) / 255.0
     m = inst[i]
-    classes = {iid: int(cls[iid]) for iid in np.unique(m) if iid != 0}
-    boxes, labels, masks = targets_from_map(m, classes)
+    if rng.random() < 0.7:
+        img, m = rescale(img, m, rng)
     if rng.random() < 0.5:  # horizontal flip
         img = img[:, ::-1]
-        masks = masks[:, :, ::-1]
-        w = img.shape[1]
-        boxes = boxes.copy()
-        boxes[:, [0, 2]] = w - boxes[:, [2, 0]]
-    img = np.clip(img * rng.uniform(0.8, 1.2), 0.0, 1.0)  # brightness only (no hue shift)
+        m = m[:, ::-1]
+    classes = {iid: int(cls[iid]) for iid in np.unique(m) if iid != 0}
+    boxes, labels, masks = targets_from_map(m, classes)
+    # Brightness, contrast and saturation; hue is left alone (colour names are labels).
+    img = img * rng.uniform(0.75, 1.25)
+    mean = img.mean()
+    img = mean + (img - mean) * rng.uniform(0.8, 1.2)
+    grey = img.mean(axis=2, keepdims=True)
+    img = np.clip(grey + (img - grey) * rng.uniform(0.85, 1.15), 0.0, 1.0).astype(np.float32)
     t = {"boxes": torch.from_numpy(np.ascontiguousarray(boxes)), "labels": torch.from_numpy(labels),
          "masks": torch.from_numpy(np.ascontiguousarray(masks))}
     return torch.from_numpy(np.ascontiguousarray(img.transpose(2, 0, 1))), t
@@ -72,16 +99,12 @@ def make_sample(item, rng):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--cache", required=True)
-    ap.add_argument("--real", required=True)
+    ap.add_argument("--cache", required=True, action="append")
     ap.add_argument("--out", required=True)
     ap.add_argument("--minutes", type=float, default=50)
     ap.add_argument("--batch", type=int, default=2)
     ap.add_argument("--lr", type=float, default=1e-3)
     ap.add_argument("--warmup", type=int, default=100)
-    ap.add_argument("--real-prob", type=float, default=0.15)
-    ap.add_argument("--real-max-key", type=int, default=100)
-    ap.add_argument("--real-every", type=int, default=3)
     ap.add_argument("--seed", type=int, default=20261123)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--ckpt-minutes", type=float, default=10)
@@ -95,8 +118,11 @@ def main():
     rng = random.Random(a.seed)
     os.makedirs(a.out, exist_ok=True)
 
-    pool = Pool(a.cache, a.real, a.real_max_key, a.real_every)
-    print(f"generated frames {len(pool.gen)}, real frames {len(pool.real)} keys {pool.real_keys}", flush=True)
+    pool = Pool(a.cache)
+    while not pool.gen:  # the first videos may still be on their way
+        time.sleep(20)
+        pool.rescan()
+    print(f"generated frames {len(pool.gen)} from {len(pool.loaded)} videos", flush=True)
     model = build_model()
     model.train()
     params = [p for p in model.parameters() if p.requires_grad]
@@ -114,7 +140,8 @@ def main():
     def save(tag):
         meta = {"iter": it, "seconds": time.time() - start, "args": vars(a), "config": CONFIG,
                 "generated_frames": len(pool.gen), "generated_videos": len(pool.loaded),
-                "real_keys": pool.real_keys, "last_losses": {k: v / max(n_acc, 1) for k, v in acc.items()}}
+                "training_files": [os.path.relpath(p, os.path.dirname(c)) for p in pool.loaded
+                                   for c in a.cache if os.path.dirname(p) == os.path.normpath(c)], "last_losses": {k: v / max(n_acc, 1) for k, v in acc.items()}}
         torch.save({"model": model.state_dict(), "meta": meta}, os.path.join(a.out, f"{tag}.pt"))
         json.dump(meta, open(os.path.join(a.out, f"{tag}.json"), "w"), indent=1)
 
@@ -128,7 +155,7 @@ def main():
             g["lr"] = lr
         if it % 100 == 0 and it:
             pool.rescan()
-        batch = [make_sample(pool.sample(rng, a.real_prob), rng) for _ in range(a.batch)]
+        batch = [make_sample(pool.sample(rng), rng) for _ in range(a.batch)]
         losses = model([b[0] for b in batch], [b[1] for b in batch])
         loss = sum(losses.values())
         if not torch.isfinite(loss):

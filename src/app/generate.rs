@@ -16,6 +16,7 @@ use super::questions::questions;
 use super::settings::{FramesSelection, GenerateSettings, QuestionsSettings};
 use crate::perception::frames::ffmpeg_available;
 use crate::scenarios;
+use crate::synth::appearance::Appearance;
 use crate::synth::video::FrameOutput;
 use crate::synth::{GenerateOptions, SynthError, generate as generate_videos};
 use crate::util::write_atomic;
@@ -75,15 +76,21 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         frames,
         width,
         height,
+        appearance: settings.appearance,
     };
     // The settings that decide a video's content: a data root holds videos of one setting only,
     // so a resumed generation never mixes two.
-    let identity = json!({
+    let mut identity = json!({
         "scenario": scenario.name(),
         "seed": settings.seed,
         "frames": format!("{frames:?}").to_lowercase(),
         "resolution": [width, height],
     });
+    // Only a randomised appearance is recorded, so data roots written before the option existed
+    // (all of the release's look) still resume.
+    if settings.appearance == Appearance::Randomized {
+        identity["appearance"] = json!("randomized");
+    }
     let manifest_path = settings.out.join("generate.json");
     if manifest_path.is_file() {
         let previous: serde_json::Value =

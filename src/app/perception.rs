@@ -21,7 +21,9 @@ use super::prerequisites::{ModelOverrides, check_frames, model_files};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
 use crate::perception::ScenarioPerception;
 use crate::perception::classes::ClassTable;
-use crate::perception::color::{ColorModel, features, name_colors, palette_id_of_name, wall_color};
+use crate::perception::color::{
+    ColorModel, TrainingVideo, features, name_colors, palette_id_of_name, wall_color,
+};
 use crate::perception::detection::{Detection, InstanceMask};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::evaluation::{
@@ -225,10 +227,12 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
     let classes = ClassTable::of_scenario(perception.classes);
     let mut samples = Vec::new();
     let mut described = Vec::new();
+    let mut training_videos = Vec::new();
     for data in &settings.data {
         let videos = videos(data, scenario, &settings.frames)?;
         let mut frames_used = 0usize;
         for video in &videos {
+            training_videos.push(training_video(data, video)?);
             let truth = open_truth_video(video)?;
             let frames = selected_frames(&truth.records, &settings.frames);
             let rgb_frames = truth.rgb.read(&frames).user()?;
@@ -271,6 +275,10 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
         ),
     )
     .user()?;
+    let model = ColorModel {
+        training_videos,
+        ..model
+    };
     let text = serde_json::to_string_pretty(&model).internal()?;
     crate::util::write_atomic(&settings.out, format!("{text}\n").as_bytes()).user()?;
     let summary = json!({
@@ -279,6 +287,25 @@ pub(super) fn fit_colors(settings: &FitColorsSettings) -> Result<ExitCode, AppEr
         "colors": model.prototypes.iter().map(|p| json!({"name": p.name, "samples": p.samples})).collect::<Vec<_>>(),
     });
     print_report(&summary)
+}
+
+/// A fitting video's record: its folder below the data root's parent and the SHA-256 of its
+/// `outputs.json`.
+fn training_video(data: &Path, video: &VideoFolder) -> Result<TrainingVideo, AppError> {
+    use sha2::Digest as _;
+    let outputs = video.dir.join("outputs.json");
+    let bytes = fs_err::read(&outputs).user()?;
+    let digest = sha2::Sha256::digest(&bytes);
+    let base = data.parent().unwrap_or(data);
+    let folder = video.dir.strip_prefix(base).unwrap_or(&video.dir);
+    Ok(TrainingVideo {
+        video: folder.to_string_lossy().replace('\\', "/"),
+        outputs_sha256: digest.iter().fold(String::new(), |mut hex, byte| {
+            use std::fmt::Write as _;
+            let _ = write!(hex, "{byte:02x}");
+            hex
+        }),
+    })
 }
 
 #[derive(Debug, Default, Serialize)]

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 pub use super::prerequisites::ModelOverrides;
 use crate::dataset::{Scenario, Split};
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+use crate::synth::appearance::Appearance;
 
 /// A command to run.
 #[derive(Debug)]
@@ -190,6 +191,8 @@ pub struct GenerateSettings {
     pub frames: FramesSelection,
     /// Image width and height, pixels.
     pub resolution: (u32, u32),
+    /// How the frames look.
+    pub appearance: Appearance,
     /// No progress bar.
     pub quiet: bool,
 }

@@ -12,6 +12,7 @@ use crate::app::{
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
+use crate::synth::appearance::Appearance;
 use crate::synth::video::FrameOutput;
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
@@ -426,9 +427,22 @@ pub struct GenerateArgs {
     /// Image size, WIDTHxHEIGHT (the release's is 1920x1080).
     #[arg(long, value_name = "WxH", default_value = "1920x1080", value_parser = parse_resolution)]
     resolution: (u32, u32),
+    /// How the frames look: the release's, or randomised per video (light, wall, colours within
+    /// their names, sensor noise and blur) to train perception on generated frames only.
+    /// Annotations and questions are the same either way.
+    #[arg(long, value_enum, default_value_t = AppearanceArg::Release)]
+    appearance: AppearanceArg,
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum AppearanceArg {
+    /// The release's look.
+    Release,
+    /// Domain randomisation, for training perception models.
+    Randomized,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -682,6 +696,10 @@ impl Cli {
                     FramesArg::None => FramesSelection::Exactly(FrameOutput::None),
                 },
                 resolution: args.resolution,
+                appearance: match args.appearance {
+                    AppearanceArg::Release => Appearance::Release,
+                    AppearanceArg::Randomized => Appearance::Randomized,
+                },
                 quiet: args.quiet,
             }),
             Some(Command::Score(args)) => Request::Score(ScoreSettings {

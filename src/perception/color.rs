@@ -71,26 +71,33 @@ pub fn wall_color(frame: &RgbFrame, masks: &[&InstanceMask]) -> Option<[f64; 3]>
 }
 
 /// The features of the pixels under `mask`, relative to `wall`; `None` with fewer than
-/// [`MIN_PIXELS`] pixels.
+/// [`MIN_PIXELS`] pixels. Only the half of the pixels least like the wall counts: a mask bleeds
+/// onto the wall round its object (a thin rope's mask is mostly wall), and taking the brighter
+/// half instead would keep that bleed for every object darker than the wall (red, brown, black).
 pub fn features(frame: &RgbFrame, mask: &InstanceMask, wall: [f64; 3]) -> Option<ColorFeatures> {
     let mut pixels: Vec<([f64; 3], f64)> = mask
         .pixels()
         .filter_map(|(x, y)| linear_pixel(frame, x, y))
         .map(|p| {
             let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
-            let luminance = 0.2126 * relative[0] + 0.7152 * relative[1] + 0.0722 * relative[2];
-            (relative, luminance)
+            // Unlikeness to the wall: how far the relative colour is from (1, 1, 1), in log
+            // space so that darker and brighter count alike.
+            let unlike = relative
+                .iter()
+                .map(|c| c.max(1e-4).ln().powi(2))
+                .sum::<f64>();
+            (relative, unlike)
         })
         .collect();
     if pixels.len() < MIN_PIXELS {
         return None;
     }
     pixels.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let bright = &pixels[pixels.len() / 2..];
+    let object = &pixels[pixels.len() / 2..];
     let mut mean = [0.0; 3];
-    for (p, _) in bright {
+    for (p, _) in object {
         for c in 0..3 {
-            mean[c] += p[c] / bright.len() as f64;
+            mean[c] += p[c] / object.len() as f64;
         }
     }
     let sum = mean[0] + mean[1] + mean[2] + 1e-6;
@@ -125,6 +132,19 @@ pub struct ColorModel {
     /// neighbours keep both looks apart where one Gaussian would blur them. Empty: Gaussians.
     #[serde(default)]
     pub samples: Vec<(u8, ColorFeatures)>,
+    /// The videos fitted on, each with the SHA-256 of its `outputs.json`, so anyone can check
+    /// that a held-out video (the release's real one) was not among them.
+    #[serde(default)]
+    pub training_videos: Vec<TrainingVideo>,
+}
+
+/// One video a model was fitted or trained on.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TrainingVideo {
+    /// The video folder, relative to the data root's parent (`train-rope/pulley_group/3`).
+    pub video: String,
+    /// SHA-256 of its `outputs.json`, lowercase hex.
+    pub outputs_sha256: String,
 }
 
 /// Neighbours that vote in [`ColorModel::classify`].
@@ -201,6 +221,7 @@ impl ColorModel {
             fitted_on: fitted_on.to_string(),
             prototypes,
             samples: samples.iter().map(|(id, f)| (*id, f.map(round))).collect(),
+            training_videos: Vec::new(),
         })
     }
 

@@ -179,9 +179,85 @@ pub struct Detection {
     pub color: Option<u8>,
 }
 
+/// Mask overlap (intersection over union) above which two detections are one object whatever
+/// their classes: the model's NMS is per class, so one pulley can come out as a solid and as a
+/// hollow one, or a cube also as a sphere.
+pub const DUPLICATE_MASK_IOU: f64 = 0.5;
+
+/// Share of a detection's mask inside a surer detection of the same class above which it is a
+/// fragment of that one (a piece of a rope found beside the whole rope).
+pub const FRAGMENT_SHARE: f64 = 0.8;
+
+/// Class-agnostic duplicate suppression: detections in descending score (ties: the earlier
+/// first), each dropped when its mask overlaps a kept one by [`DUPLICATE_MASK_IOU`], or lies
+/// [`FRAGMENT_SHARE`] inside a kept one of its own class. Masks of different classes may nest
+/// (a coarse rope band round a small fixed point) without either being dropped.
+pub fn suppress_duplicates(mut detections: Vec<Detection>) -> Vec<Detection> {
+    // A stable sort keeps the model's order among equal scores.
+    detections.sort_by(|a, b| b.score.total_cmp(&a.score));
+    let mut kept: Vec<Detection> = Vec::with_capacity(detections.len());
+    for detection in detections {
+        let area = detection.mask.area();
+        let duplicate = kept.iter().any(|surer| {
+            let shared = surer.mask.intersection(&detection.mask);
+            let union = surer.mask.area() + area - shared;
+            let iou = if union == 0 {
+                0.0
+            } else {
+                shared as f64 / union as f64
+            };
+            iou >= DUPLICATE_MASK_IOU
+                || (surer.class == detection.class
+                    && area > 0
+                    && shared as f64 >= FRAGMENT_SHARE * area as f64)
+        });
+        if !duplicate {
+            kept.push(detection);
+        }
+    }
+    kept
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn detection(class: &str, score: f32, mask: InstanceMask) -> Detection {
+        Detection {
+            frame: 0,
+            class: crate::perception::rope::test_class(class),
+            score,
+            bbox: [0.0; 4],
+            mask,
+            color: None,
+        }
+    }
+
+    fn block(x: std::ops::Range<u32>, y: std::ops::Range<u32>) -> InstanceMask {
+        InstanceMask::from_predicate(40, 40, move |px, py| x.contains(&px) && y.contains(&py))
+    }
+
+    #[test]
+    fn duplicates_are_suppressed_across_classes_and_fragments_within_one() {
+        let detections = vec![
+            // A pulley read as class 5 (0.6) and, surer, as class 6 (0.9): one object.
+            detection("solid static pulley", 0.6, block(10..20, 10..20)),
+            detection("hollow static pulley", 0.9, block(11..20, 10..20)),
+            // A rope (class 3) and a piece of it, also class 3, found on its own: a fragment.
+            detection("rope", 0.8, block(0..2, 0..40)),
+            detection("rope", 0.4, block(0..2, 30..40)),
+            // A small fixed point (class 4) inside the rope's band: another class, kept.
+            detection("fixed point", 0.3, block(0..1, 0..2)),
+            // A second, separate pulley: kept.
+            detection("solid static pulley", 0.5, block(25..35, 25..35)),
+        ];
+        let kept: Vec<(u16, f32)> = suppress_duplicates(detections)
+            .iter()
+            .map(|d| (d.class.label(), d.score))
+            .collect();
+        // Labels of the rope model: 6 hollow static pulley, 3 rope, 5 solid static, 4 fixed point.
+        assert_eq!(kept, vec![(6, 0.9), (3, 0.8), (5, 0.5), (4, 0.3)]);
+    }
 
     #[test]
     fn masks_measure_area_overlap_bounds_and_centroid() {

@@ -26,7 +26,7 @@ use ort::session::builder::GraphOptimizationLevel;
 use ort::value::TensorRef;
 
 use super::classes::{ClassError, ClassTable, ScenarioClasses};
-use super::detection::{Detection, InstanceMask};
+use super::detection::{Detection, InstanceMask, suppress_duplicates};
 use super::frames::RgbFrame;
 use super::runtime::{RuntimeError, environment};
 
@@ -333,6 +333,7 @@ impl Detector {
                 color: None,
             });
         }
+        let detections = suppress_duplicates(detections);
         let times = StageTimes {
             preprocess_ms: (preprocessed - started).as_secs_f64() * 1e3,
             inference_ms: (inferred - preprocessed).as_secs_f64() * 1e3,

@@ -458,6 +458,8 @@ pub struct AttributeReport {
     pub unmatched_detections: usize,
     /// Same palette colour (both unknown counts as the same).
     pub color: Accuracy,
+    /// The same, per true colour (palette name; `unknown` when the truth has none).
+    pub color_per_color: BTreeMap<&'static str, Accuracy>,
     /// Same class.
     pub class: Accuracy,
     /// Same kind (rope: cube, sphere, rope, fixed point, pulley).
@@ -481,6 +483,8 @@ pub fn attribute_accuracy(
     let detections = by_frame(detections_per_frame, "detections")?;
     let (mut matched, mut unmatched_truth, mut unmatched_detections) = (0, 0, 0);
     let (mut color, mut class, mut kind) = (0, 0, 0);
+    // Per true colour: (right, judged).
+    let mut per_color: BTreeMap<&'static str, (usize, usize)> = BTreeMap::new();
     let attribute_names = classes.attribute_names();
     // Per attribute: (right, judged).
     let mut attributes: Vec<(usize, usize)> = vec![(0, 0); attribute_names.len()];
@@ -504,7 +508,15 @@ pub fn attribute_accuracy(
             };
             let (truth, detection) = (prepared.truth, detection.detection);
             matched += 1;
-            color += usize::from(detection.color == truth.color);
+            let right_color = detection.color == truth.color;
+            color += usize::from(right_color);
+            let name = truth
+                .color
+                .and_then(super::palette::palette_color)
+                .map_or("unknown", |c| c.name);
+            let entry = per_color.entry(name).or_default();
+            entry.0 += usize::from(right_color);
+            entry.1 += 1;
             class += usize::from(detection.class == truth.class);
             kind += usize::from(detection.class.same_kind(truth.class));
             for (name, (right, judged)) in attribute_names.iter().zip(&mut attributes) {
@@ -521,6 +533,10 @@ pub fn attribute_accuracy(
         unmatched_truth,
         unmatched_detections,
         color: Accuracy::new(color, matched),
+        color_per_color: per_color
+            .into_iter()
+            .map(|(name, (right, judged))| (name, Accuracy::new(right, judged)))
+            .collect(),
         class: Accuracy::new(class, matched),
         kind: Accuracy::new(kind, matched),
         attributes: attribute_names
@@ -990,6 +1006,24 @@ mod tests {
         assert_eq!(counts(report.attributes["shape"]), (1, 2));
         assert!(close(report.attributes["shape"].accuracy, 0.5));
         assert!(close(report.color.accuracy, 0.75));
+        // Per true colour: both red cubes right, the blue pulley right, the green one unread.
+        let name = |id: Option<u8>| {
+            crate::perception::palette::palette_color(id.unwrap())
+                .unwrap()
+                .name
+        };
+        let per_color: Vec<(&str, (usize, usize))> = report
+            .color_per_color
+            .iter()
+            .map(|(name, accuracy)| (*name, counts(*accuracy)))
+            .collect();
+        let mut expected = vec![
+            (name(RED), (2, 2)),
+            (name(BLUE), (1, 1)),
+            (name(GREEN), (0, 1)),
+        ];
+        expected.sort_unstable();
+        assert_eq!(per_color, expected);
         let empty = attribute_accuracy(&table(), &[], &[], 0.0).unwrap();
         assert_eq!(empty.color.accuracy, None);
     }

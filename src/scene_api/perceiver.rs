@@ -205,14 +205,15 @@ impl Perceiver {
         self.names = names;
     }
 
-    /// Frame `index`, decoded (counted as work).
-    pub fn read_frame(&mut self, index: usize) -> Result<Option<RgbFrame>, ApiError> {
-        let mut frames = self
+    /// Frames `indices`, decoded (counted as work), in order; frames the video lacks are left
+    /// out.
+    pub fn read_frames(&mut self, indices: &[usize]) -> Result<Vec<RgbFrame>, ApiError> {
+        let frames = self
             .source
-            .read(&[index])
+            .read(indices)
             .map_err(|e| ApiError::Data(e.to_string()))?;
         self.work.0 += frames.len() as u64;
-        Ok(frames.pop())
+        Ok(frames)
     }
 
     /// Frames of the first pass: 0, 10, …, 60 (those the video has).
@@ -223,17 +224,17 @@ impl Perceiver {
     }
 
     /// Runs the first pass once: the detector on frames 0, 10, …, 60, and the tracks. Returns
-    /// the pass's first frame when this call ran it (the caller may want its pixels; the scene
-    /// does not keep frames, since a worker keeps one scene per video it has seen).
-    pub fn first_pass(&mut self) -> Result<Option<RgbFrame>, ApiError> {
+    /// the pass's frames when this call ran it (the caller may want their pixels; the scene
+    /// does not keep frames, since a worker keeps one scene per video it has seen), else none.
+    pub fn first_pass(&mut self) -> Result<Vec<RgbFrame>, ApiError> {
         if !self.kept.is_empty() || self.info.frame_count == 0 {
-            return Ok(None);
+            return Ok(Vec::new());
         }
         let wanted = self.first_frames();
-        let (per_frame, first_frame) = self.detect(&wanted, wanted.first().copied())?;
+        let (per_frame, frames) = self.detect(&wanted, true)?;
         self.first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
         self.kept = per_frame.into_iter().collect();
-        Ok(first_frame)
+        Ok(frames)
     }
 
     /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose
@@ -269,7 +270,7 @@ impl Perceiver {
     pub fn full_pass(&mut self) -> Result<Vec<(String, Track)>, ApiError> {
         self.first_pass()?;
         let wanted: Vec<usize> = (0..self.info.frame_count).collect();
-        let (per_frame, _) = self.detect(&wanted, None)?;
+        let (per_frame, _) = self.detect(&wanted, false)?;
         let tracks = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
         let firsts = assign_to_first(&tracks, &self.first);
         Ok(tracks
@@ -284,19 +285,19 @@ impl Perceiver {
 
     /// Detections with colours for `wanted`, in order; frames [`Perceiver::scene`] ran are
     /// reused, the rest decoded in batches so a whole video is never held in memory at once.
-    /// Also hands back frame `keep` when it was decoded here.
+    /// With `keep` (a few frames only), also hands back the frames decoded here.
     fn detect(
         &mut self,
         wanted: &[usize],
-        keep: Option<usize>,
-    ) -> Result<(FrameDetections, Option<RgbFrame>), ApiError> {
+        keep: bool,
+    ) -> Result<(FrameDetections, Vec<RgbFrame>), ApiError> {
         let missing: Vec<usize> = wanted
             .iter()
             .copied()
             .filter(|f| !self.kept.contains_key(f))
             .collect();
         let mut found: BTreeMap<usize, Vec<Detection>> = BTreeMap::new();
-        let mut kept_frame = None;
+        let mut kept_frames = Vec::new();
         for batch in missing.chunks(16) {
             let frames = self
                 .source
@@ -320,8 +321,8 @@ impl Perceiver {
             if table.is_some() {
                 self.table = table;
             }
-            if let Some(frame) = frames.into_iter().find(|f| Some(f.index) == keep) {
-                kept_frame = Some(frame);
+            if keep {
+                kept_frames.extend(frames);
             }
         }
         let per_frame = wanted
@@ -331,7 +332,7 @@ impl Perceiver {
                 Some((*f, detections))
             })
             .collect();
-        Ok((per_frame, kept_frame))
+        Ok((per_frame, kept_frames))
     }
 }
 

@@ -19,6 +19,9 @@ pub struct Wall {
     pub variant: u64,
     /// Texture scale: noise cells per unit.
     pub frequency: f64,
+    /// Texture contrast: the shade spans `1 − 0.6·contrast … 1 + 0.4·contrast` (0.3 for the
+    /// release's plaster).
+    pub contrast: f64,
 }
 
 /// Renders the wall as seen by `camera` (RGB bytes, the camera's size).
@@ -49,7 +52,7 @@ pub fn render_wall(camera: &CameraModel, wall: &Wall, light: &Light) -> Vec<u8> 
             } else {
                 0.5
             };
-            let factor = shade * (0.82 + 0.3 * texture);
+            let factor = shade * (1.0 - 0.6 * wall.contrast + wall.contrast * texture);
             let at = (y * width + x) * 3;
             for channel in 0..3 {
                 rgb[at + channel] = linear_to_srgb_byte(base[channel] * factor);
@@ -119,6 +122,7 @@ mod tests {
             color: [0.8, 0.78, 0.74],
             variant: 3,
             frequency: 2.0,
+            contrast: 0.3,
         };
         let light = Light {
             direction: [0.0, 0.0, -1.0],

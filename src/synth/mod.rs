@@ -17,6 +17,7 @@
 //! * [`rope`]: rope–pulley scenes (`docs/data/rope.md`).
 
 pub mod annotate;
+pub mod appearance;
 pub mod background;
 mod error;
 pub mod mesh;
@@ -36,6 +37,7 @@ use serde_json::{Map, Value};
 pub use error::SynthError;
 
 use self::annotate::{LabelledObject, capture_record, segmentation_rgb};
+use self::appearance::{Appearance, FrameFinish, randomize};
 use self::background::{Wall, render_wall};
 use self::mesh::{Mesh, Pose};
 use self::raster::{Drawable, Light, render};
@@ -120,6 +122,8 @@ pub struct GenerateOptions {
     pub width: u32,
     /// Image height, pixels.
     pub height: u32,
+    /// How the frames look (the release's look, or randomised for training perception).
+    pub appearance: Appearance,
 }
 
 /// What one video cost.
@@ -244,14 +248,15 @@ fn generate_one(
         });
     }
     let started = Instant::now();
-    let video = synth.synthesize(
-        video_seed(options.seed, options.scenario, index),
-        options.width,
-        options.height,
-    )?;
+    let seed = video_seed(options.seed, options.scenario, index);
+    let mut video = synth.synthesize(seed, options.width, options.height)?;
+    let finish = match options.appearance {
+        Appearance::Release => None,
+        Appearance::Randomized => Some(randomize(&mut video, seed)),
+    };
     let simulate_ms = millis(started);
     let started = Instant::now();
-    write_video(&dir, &video, options.frames)?;
+    write_video(&dir, &video, options.frames, finish.as_ref())?;
     Ok(VideoReport {
         id,
         reused: false,
@@ -282,12 +287,14 @@ fn folder_bytes(dir: &Path) -> u64 {
     total
 }
 
-/// Renders and writes one video folder at `dir`. The folder is assembled under a temporary
-/// name beside it and renamed at the end, so a crash never leaves half a video.
+/// Renders and writes one video folder at `dir`, each frame passed through `finish` when one
+/// is given (randomised appearance). The folder is assembled under a temporary name beside it
+/// and renamed at the end, so a crash never leaves half a video.
 pub fn write_video(
     dir: &Path,
     video: &SynthesizedVideo,
     output: FrameOutput,
+    finish: Option<&FrameFinish>,
 ) -> Result<(), SynthError> {
     let parent = dir.parent().unwrap_or(Path::new("."));
     let name = dir
@@ -331,7 +338,11 @@ pub fn write_video(
             capture_record(step, camera, &frame, &video.labels, index % 2 == 1),
         );
         let segmentation = segmentation_rgb(&frame, &labelled);
-        sink.push(index, &frame.rgb, &segmentation)?;
+        let mut rgb = frame.rgb;
+        if let Some(finish) = finish {
+            finish.apply(index, camera.width, camera.height, &mut rgb);
+        }
+        sink.push(index, &rgb, &segmentation)?;
     }
     sink.finish()?;
     let mut outputs = video.annotations.clone();

@@ -254,3 +254,61 @@ fn bad_generate_requests_fail_with_one_line() {
     }
     insta::assert_snapshot!("generate_errors", transcript);
 }
+
+#[test]
+fn a_randomised_appearance_changes_the_pixels_only() {
+    // The same seed with `--appearance randomized`: the same annotations, 4-D data and
+    // segmentation (geometry and simulation are untouched), other colours in the frames, and the
+    // same bytes again on a second run. A data root keeps one appearance.
+    let release = tempfile::tempdir().unwrap();
+    let randomized = tempfile::tempdir().unwrap();
+    let again = tempfile::tempdir().unwrap();
+    assert!(generate(release.path(), "1", "8", "1").status.success());
+    let randomize = |out: &Path, seed: &str| {
+        contphy(
+            &root(),
+            &[
+                "generate",
+                "--videos",
+                "1",
+                "--seed",
+                seed,
+                "--frames",
+                "png",
+                "--resolution",
+                "192x108",
+                "--appearance",
+                "randomized",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        )
+    };
+    assert!(randomize(randomized.path(), "8").status.success());
+    assert!(randomize(again.path(), "8").status.success());
+    let read =
+        |root: &Path, file: &str| fs_err::read(root.join("pulley_group/0").join(file)).unwrap();
+    for file in [
+        "outputs.json",
+        "outputs4D.json",
+        "frames/output_Full_seg/frame_00000.png",
+        "frames/output_Full_seg/frame_00100.png",
+    ] {
+        assert!(
+            read(release.path(), file) == read(randomized.path(), file),
+            "{file} changed with the appearance"
+        );
+    }
+    let frame = "frames/output_Full_ori/frame_00000.png";
+    assert!(read(release.path(), frame) != read(randomized.path(), frame));
+    assert!(read(randomized.path(), frame) == read(again.path(), frame));
+    // The release's look into a randomised data root is refused.
+    let mixed = generate(randomized.path(), "2", "8", "1");
+    assert_eq!(mixed.status.code(), Some(1), "{}", stderr(&mixed));
+    assert!(
+        stderr(&mixed).contains("\"appearance\":\"randomized\""),
+        "{}",
+        stderr(&mixed)
+    );
+}

@@ -209,12 +209,12 @@ fn demo_results_under_every_backend_pair_are_unchanged() {
         (
             "maskrcnn",
             "annotation",
-            "0f3e145d8ff0249cd96ce8849dbcb3cabbc4ed1327259b3bb4971590d5292532",
+            "217f8099ba2bd49d18a105cde6c4d758a8a4f8cd77bb704ac36115d953b59da5",
         ),
         (
             "maskrcnn",
             "simulate",
-            "9ae0ce53019645c1fe840b53a47c35b136f8fa282ad9fcacb439f6ae25568d7e",
+            "0f807f2d60cb4fda1d6dbe6db8670e16082175efc9b06c59ab28a797c2205124",
         ),
     ];
     let out = tempfile::tempdir().unwrap();

@@ -15,6 +15,7 @@ use indexmap::IndexMap;
 use std::collections::BTreeMap;
 use std::sync::{Mutex, OnceLock, PoisonError};
 
+mod evidence;
 mod inference_bench;
 mod masses;
 mod mechanism_check;

@@ -19,13 +19,13 @@
 
 use indexmap::IndexMap;
 
-use super::topology::{Node, NodeKind, RopePath, distance, read_ropes};
+use super::evidence::{FrameReader, loose_ends};
+use super::topology::{Node, NodeKind, RopePath, distance};
 use crate::dataset::rope::{RopeAnnotation, world};
 use crate::dataset::{Camera, FourDData, RigidBodyTrack, SoftBodyTrack};
 use crate::perception::camera::CameraModel;
 use crate::perception::classes::ClassTable;
-use crate::perception::color::{srgb_to_linear, wall_color};
-use crate::perception::detection::{Detection, InstanceMask};
+use crate::perception::detection::Detection;
 use crate::perception::frames::RgbFrame;
 use crate::perception::palette::palette_color;
 use crate::perception::rope::PERCEPTION;
@@ -40,7 +40,7 @@ const COVER_RADIUS: f64 = 0.35;
 
 /// Centres closer than this are one object seen twice, units (objects of the release are at
 /// least a load's width apart).
-const SAME_OBJECT_DISTANCE: f64 = 0.9;
+pub(super) const SAME_OBJECT_DISTANCE: f64 = 0.9;
 
 /// The mechanism read from pixels.
 #[derive(Debug, Clone)]
@@ -149,19 +149,19 @@ pub(crate) struct FirstPass<'a> {
 }
 
 /// The mechanism as seen (`--dynamics simulate`): objects named from their tracks, rope paths
-/// read from the rope masks, positions lifted through the camera. The first-pass tracks take
-/// the names of the objects they stand for.
+/// read from the rope masks in every first-pass frame and voted on, positions lifted through the
+/// camera. The first-pass tracks take the names of the objects they stand for.
 pub(crate) fn perceive_mechanism(
     perceiver: &mut Perceiver,
     camera: &Camera,
 ) -> Result<PerceivedRope, ApiError> {
-    // The ropes' colours are read from the first pass's first frame; it is decoded again only
-    // if the pass ran earlier for another purpose.
-    let frame = match (perceiver.first_pass()?, perceiver.first_frames().first()) {
-        (Some(frame), _) => Some(frame),
-        (None, Some(&first)) => perceiver.read_frame(first)?,
-        (None, None) => None,
-    };
+    // The ropes' pixels are read from the first pass's frames; they are decoded again only if
+    // the pass ran earlier for another purpose (the scene keeps no frames).
+    let mut frames = perceiver.first_pass()?;
+    if frames.is_empty() {
+        let wanted = perceiver.first_frames();
+        frames = perceiver.read_frames(&wanted)?;
+    }
     // A video without frames ran no detector: no classes were read, and there are no tracks.
     let classes = perceiver
         .classes()
@@ -176,7 +176,7 @@ pub(crate) fn perceive_mechanism(
             size: (width, height),
             frame_count,
         },
-        frame.as_ref(),
+        &frames,
         camera,
     );
     perceiver.set_names(perceived.names.clone());
@@ -292,11 +292,14 @@ fn reach_pixels(nodes: &[Node], model: &CameraModel) -> f64 {
     }
 }
 
-/// Reads the mechanism of one video from its first pass; `frame` is the pass's first frame
-/// (the ropes' colours are read from it).
+/// Reads the mechanism of one video from its first pass. Each rope is read in every frame of
+/// `frames` (the pass's frames, with pixels) where it was detected, from that frame's masks,
+/// pixels and node positions, and the path read most often wins (ties: the earliest frame's), so
+/// one frame with a broken mask or a hidden stretch does not decide the mechanism. Without
+/// frames, each rope is read once from its first detection's mask alone.
 pub(crate) fn perceive_rope(
     pass: &FirstPass<'_>,
-    frame: Option<&RgbFrame>,
+    frames: &[RgbFrame],
     camera: &Camera,
 ) -> PerceivedRope {
     let FirstPass {
@@ -316,78 +319,71 @@ pub(crate) fn perceive_rope(
     // Names: unique, release-style.
     let mut names = track_names(tracks, classes);
     let Placed {
-        nodes,
+        mut nodes,
         node_track,
         ropes,
     } = place_tracks(pass, &model, camera, &mut names);
-    let reach_px = reach_pixels(&nodes, &model);
-    let (width, height) = size;
-    let wall = frame.and_then(|frame| {
-        let masks: Vec<&InstanceMask> = detections
-            .get(&frame.index)
-            .map(|list| list.iter().map(|d| &d.mask).collect())
-            .unwrap_or_default();
-        wall_color(frame, &masks)
-    });
-    // The pixels of the objects that are not ropes, in the evidence frame.
-    let mut occupied = vec![false; frame.map_or(0, |f| f.width as usize * f.height as usize)];
-    if let Some(frame) = frame {
-        for detection in detections.get(&frame.index).into_iter().flatten() {
-            if classes.name(detection.class) != "rope" {
-                for (x, y) in detection.mask.pixels() {
-                    if let Some(slot) =
-                        occupied.get_mut(y as usize * frame.width as usize + x as usize)
-                    {
-                        *slot = true;
-                    }
-                }
-            }
-        }
-    }
-    let evidence: Vec<RopeEvidence> = ropes
-        .iter()
-        .map(|(_, detection)| RopeEvidence::new(detection, frame.zip(wall), &occupied))
-        .collect();
-    let mut covers = |rope: usize, point: [f64; 2]| -> Option<bool> {
-        let evidence = evidence.get(rope)?;
-        let seen = model.project([point[0], point[1], 0.0])?;
-        if seen.depth <= 0.0
-            || seen.x < 0.0
-            || seen.y < 0.0
-            || seen.x >= f64::from(width)
-            || seen.y >= f64::from(height)
-        {
-            return None;
-        }
-        // In the frame (checked above) and a few pixels wide: small and non-negative.
-        #[expect(
-            clippy::cast_possible_truncation,
-            reason = "pixel coordinates inside the frame and a radius of a few pixels"
-        )]
-        let (reach, cx, cy) = (
-            reach_px.ceil().min(64.0) as i64,
-            seen.x.floor() as i64,
-            seen.y.floor() as i64,
-        );
-        let squared = reach_px * reach_px;
-        for dy in -reach..=reach {
-            for dx in -reach..=reach {
-                if (dx * dx + dy * dy) as f64 > squared {
-                    continue;
-                }
-                let (x, y) = (cx + dx, cy + dy);
-                if x >= 0
-                    && y >= 0
-                    && let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y))
-                    && evidence.contains(x, y)
-                {
-                    return Some(true);
-                }
-            }
-        }
-        Some(false)
+    // Where a rope's pixels end with no object to end at (a fixed point too small to be
+    // detected), the rope may end there: a candidate fixed point, kept if a read rope ends on it.
+    let tracked_nodes = nodes.len();
+    nodes.extend(loose_ends(&ropes, &nodes, &model, camera));
+    let reader = FrameReader {
+        pass,
+        model: &model,
+        reach_px: reach_pixels(&nodes, &model),
     };
-    let mut paths = read_ropes(&nodes, ropes.len(), &mut covers);
+    // Per rope, the distinct paths read and how many frames read each, in first-read order.
+    let mut votes: Vec<Vec<(RopePath, usize)>> = vec![Vec::new(); ropes.len()];
+    let mut tally = |paths: Vec<Option<RopePath>>| {
+        for (rope_votes, path) in votes.iter_mut().zip(paths) {
+            let Some(path) = path else { continue };
+            match rope_votes
+                .iter_mut()
+                .find(|(seen, _)| seen.nodes == path.nodes && seen.turns == path.turns)
+            {
+                Some((_, count)) => *count += 1,
+                None => rope_votes.push((path, 1)),
+            }
+        }
+    };
+    if frames.is_empty() {
+        let first: Vec<Option<&Detection>> = ropes.iter().map(|(_, d)| Some(*d)).collect();
+        tally(reader.read(&nodes, &first, None));
+    }
+    for frame in frames {
+        // Where each node and rope is in this frame (a node not seen here keeps its first place).
+        let here: Vec<Node> = nodes
+            .iter()
+            .enumerate()
+            .map(|(index, node)| {
+                node_track
+                    .get(index)
+                    .and_then(|&track| tracks[track].at_frame(frame.index))
+                    .and_then(|p| lift(&model, camera, p.centroid[0], p.centroid[1]))
+                    .map_or(*node, |centre| Node { centre, ..*node })
+            })
+            .collect();
+        let seen: Vec<Option<&Detection>> = ropes
+            .iter()
+            .map(|(track, _)| {
+                let point = tracks[*track].at_frame(frame.index)?;
+                detections.get(&frame.index)?.get(point.detection)
+            })
+            .collect();
+        tally(reader.read(&here, &seen, Some(frame)));
+    }
+    let mut paths: Vec<Option<RopePath>> = votes
+        .into_iter()
+        .map(|rope_votes| {
+            let mut best: Option<(RopePath, usize)> = None;
+            for (path, count) in rope_votes {
+                if best.as_ref().is_none_or(|(_, most)| count > *most) {
+                    best = Some((path, count));
+                }
+            }
+            best.map(|(path, _)| path)
+        })
+        .collect();
     // The detector can split one rope into several detections: a rope read along the same
     // elements as a surer one, or not read but of a read rope's colour, is part of that one.
     for later in 0..paths.len() {
@@ -407,118 +403,21 @@ pub(crate) fn perceive_rope(
             names[ropes[later].0] = None;
         }
     }
+    // The candidate ends some read rope ends on become fixed points of the scene.
+    let loose: Vec<(usize, String)> = (tracked_nodes..nodes.len())
+        .filter(|node| paths.iter().flatten().any(|path| path.nodes.contains(node)))
+        .enumerate()
+        .map(|(k, node)| (node, format!("Unknown Fixed Point (2 {k})")))
+        .collect();
     assemble(
         names,
         &nodes,
-        &node_track,
+        (&node_track, &loose),
         &ropes,
         &paths,
         camera,
         frame_count,
     )
-}
-
-/// A pixel's colour relative to the wall: chromaticity (r, g) and log brightness, of linear RGB
-/// divided by the wall's (the per-pixel form of `perception::color::features`).
-fn pixel_feature(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<[f64; 3]> {
-    let p = frame.pixel(x, y)?.map(srgb_to_linear);
-    let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
-    let sum = relative[0] + relative[1] + relative[2] + 1e-6;
-    let feature = [relative[0] / sum, relative[1] / sum, sum.ln()];
-    feature.iter().all(|v| v.is_finite()).then_some(feature)
-}
-
-/// How different two pixel features are: chromaticity distance plus a little of the brightness
-/// ratio (shading along a rope changes brightness more than hue).
-fn feature_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1]) + BRIGHTNESS_WEIGHT * (a[2] - b[2]).abs()
-}
-
-/// Weight of log brightness against chromaticity in [`feature_distance`].
-const BRIGHTNESS_WEIGHT: f64 = 0.15;
-/// Farthest a pixel's feature may be from its rope's and still count as the rope.
-const MAX_ROPE_DISTANCE: f64 = 0.09;
-
-/// Where one rope's pixels are: its mask, and the pixels near its box whose colour is the
-/// rope's rather than the wall's. The detector's 28×28 mask of a long thin rope is broken; the
-/// colour fills the gaps.
-struct RopeEvidence {
-    mask: InstanceMask,
-    /// The colour-matched pixels over `(left, top, width, height)`.
-    left: u32,
-    top: u32,
-    width: u32,
-    height: u32,
-    bits: Vec<bool>,
-}
-
-impl RopeEvidence {
-    /// `occupied` marks, row by row over the whole frame, the pixels of the other objects.
-    fn new(
-        detection: &Detection,
-        frame_and_wall: Option<(&RgbFrame, [f64; 3])>,
-        occupied: &[bool],
-    ) -> RopeEvidence {
-        let mut evidence = RopeEvidence {
-            mask: detection.mask.clone(),
-            left: 0,
-            top: 0,
-            width: 0,
-            height: 0,
-            bits: Vec::new(),
-        };
-        let Some((frame, wall)) = frame_and_wall else {
-            return evidence;
-        };
-        // The rope's colour: the per-channel median feature of its mask's pixels.
-        let mut channels: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
-        for (x, y) in detection.mask.pixels() {
-            if let Some(f) = pixel_feature(frame, x, y, wall) {
-                for c in 0..3 {
-                    channels[c].push(f[c]);
-                }
-            }
-        }
-        if channels[0].len() < 20 {
-            return evidence;
-        }
-        let reference = channels.map(|mut values| {
-            values.sort_by(f64::total_cmp);
-            values[values.len() / 2]
-        });
-        let wall_feature = [1.0 / 3.0, 1.0 / 3.0, 3.0_f64.ln()];
-        // The whole frame, less the objects: the detector's box often misses part of a long
-        // rope, and an object of the rope's colour is not rope.
-        let (width, height) = (frame.width, frame.height);
-        evidence.width = width;
-        evidence.height = height;
-        evidence.bits = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .zip(occupied)
-            .map(|((x, y), object)| {
-                !object
-                    && pixel_feature(frame, x, y, wall).is_some_and(|f| {
-                        let to_rope = feature_distance(f, reference);
-                        to_rope < MAX_ROPE_DISTANCE && to_rope < feature_distance(f, wall_feature)
-                    })
-            })
-            .collect();
-        evidence
-    }
-
-    fn contains(&self, x: u32, y: u32) -> bool {
-        if self.mask.contains(x, y) {
-            return true;
-        }
-        if x < self.left
-            || y < self.top
-            || x >= self.left + self.width
-            || y >= self.top + self.height
-        {
-            return false;
-        }
-        self.bits[((y - self.top) * self.width + (x - self.left)) as usize]
-    }
 }
 
 /// The representative of `i`'s set in a union-find forest.
@@ -535,7 +434,7 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
 fn assemble(
     names: Vec<Option<String>>,
     nodes: &[Node],
-    node_track: &[usize],
+    (node_track, loose): (&[usize], &[(usize, String)]),
     ropes: &[(usize, &Detection)],
     paths: &[Option<RopePath>],
     camera: &Camera,
@@ -543,10 +442,16 @@ fn assemble(
 ) -> PerceivedRope {
     let name_of = |track: usize| names.get(track).cloned().flatten().unwrap_or_default();
     let node_name = |node: usize| {
-        node_track
-            .get(node)
-            .map(|&t| name_of(t))
-            .unwrap_or_default()
+        node_track.get(node).map_or_else(
+            || {
+                loose
+                    .iter()
+                    .find(|(index, _)| *index == node)
+                    .map(|(_, name)| name.clone())
+                    .unwrap_or_default()
+            },
+            |&t| name_of(t),
+        )
     };
     // Ropes that were read, as (rope name, node path).
     let read: Vec<(String, &RopePath)> = ropes
@@ -588,6 +493,12 @@ fn assemble(
             .element_positions
             .insert(name, nodes[node].centre);
     }
+    // Fixed points read from where a rope's pixels end: placed, static, never detected.
+    for (node, name) in loose {
+        annotation
+            .element_positions
+            .insert(name.clone(), nodes[*node].centre);
+    }
     annotation.id_to_object_name = names
         .iter()
         .enumerate()
@@ -609,6 +520,18 @@ fn assemble(
                 poses: if moving { vec![pose] } else { Vec::new() },
                 voxels: Vec::new(),
                 first_pose: Some(pose),
+            },
+        );
+    }
+    for (node, name) in loose {
+        let centre = nodes[*node].centre;
+        four_d.rigid_bodies.insert(
+            name.clone(),
+            RigidBodyTrack {
+                is_static: true,
+                poses: Vec::new(),
+                voxels: Vec::new(),
+                first_pose: Some(([centre[0], centre[1], 0.0], [0.0; 3])),
             },
         );
     }
@@ -826,7 +749,15 @@ mod tests {
             }));
         }
         let camera = annotation.camera.clone().unwrap();
-        let perceived = assemble(names, &nodes, &node_track, &ropes, &read, &camera, 150);
+        let perceived = assemble(
+            names,
+            &nodes,
+            (&node_track, &[]),
+            &ropes,
+            &read,
+            &camera,
+            150,
+        );
         assert_eq!(
             perceived.annotation.related_groups_in_rope,
             annotation.related_groups_in_rope
@@ -935,7 +866,7 @@ mod tests {
         let perceived = assemble(
             names.iter().map(|n| Some((*n).to_string())).collect(),
             &nodes,
-            &[0, 1, 2, 3, 4],
+            (&[0, 1, 2, 3, 4], &[]),
             &ropes,
             &[Some(main), Some(side)],
             &camera,

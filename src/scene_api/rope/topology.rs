@@ -58,8 +58,24 @@ impl NodeKind {
         }
     }
 
+    /// The radius round the centre inside which the node's body hides a rope tied to it, units:
+    /// the disc of a pulley (its hook is inside), a load's half height, a fixed point's body.
+    fn tied_hidden_radius(self) -> f64 {
+        match self {
+            NodeKind::StaticPulley { solid } | NodeKind::MovablePulley { solid } => {
+                if solid {
+                    world::SOLID_PULLEY_RADIUS
+                } else {
+                    world::HOLLOW_PULLEY_RADIUS
+                }
+            }
+            NodeKind::Load => world::LOAD_HALF_HEIGHT + world::ROPE_RADIUS,
+            NodeKind::Anchor => 0.6,
+        }
+    }
+
     /// The radius round the centre inside which the node's own body hides the rope, units.
-    fn body_radius(self) -> f64 {
+    pub(crate) fn body_radius(self) -> f64 {
         match self {
             NodeKind::StaticPulley { solid } | NodeKind::MovablePulley { solid } => {
                 let disc = if solid {
@@ -282,8 +298,7 @@ const MAX_PATH_NODES: usize = 9;
 /// Samples of one segment the pixels cover and miss; `None` when they reject it.
 fn segment_support(
     nodes: &[Node],
-    from: usize,
-    to: usize,
+    [(from, from_wrapped), (to, to_wrapped)]: [(usize, bool); 2],
     (start, end): ([f64; 2], [f64; 2]),
     covers: &mut dyn FnMut([f64; 2]) -> Option<bool>,
 ) -> Option<(usize, usize)> {
@@ -305,11 +320,19 @@ fn segment_support(
     let (mut covered, mut missed) = (0, 0);
     for step in 0..=count {
         let point = lerp(start, end, (step as f64 + 0.5) / (count as f64 + 1.0));
-        // Samples where a node's body hides the rope tell nothing.
+        // Samples where a node's body hides the rope tell nothing. A rope tied to an end (a
+        // load's top, a movable pulley's hook) is seen right up to the body itself, so a short
+        // rope hanging under a pulley keeps the few samples that show it.
         let hidden = nodes.iter().enumerate().any(|(index, node)| {
-            let reach = node.kind.body_radius();
-            let ends = index == from || index == to;
-            distance(point, node.centre) < if ends { reach } else { reach * 0.8 }
+            let tied = (index == from && !from_wrapped) || (index == to && !to_wrapped);
+            let reach = if tied {
+                node.kind.tied_hidden_radius()
+            } else if index == from || index == to {
+                node.kind.body_radius()
+            } else {
+                node.kind.body_radius() * 0.8
+            };
+            distance(point, node.centre) < reach
         });
         if hidden {
             continue;
@@ -367,7 +390,8 @@ fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -
             .entry((from, code(turn_from), to, code(turn_to)))
             .or_insert_with(|| {
                 let geometry = segment(&nodes[from], turn_from, &nodes[to], turn_to)?;
-                segment_support(nodes, from, to, geometry, covers)
+                let ends = [(from, turn_from.is_some()), (to, turn_to.is_some())];
+                segment_support(nodes, ends, geometry, covers)
             })
     };
     let mut best: Option<RopePath> = None;

@@ -145,6 +145,7 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<Trial, String>
             },
             variant: room,
             frequency: 1.3,
+            contrast: 0.3,
         },
         labels: scene.labels(),
         id_to_name: scene.id_to_name(),

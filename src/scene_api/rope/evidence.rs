@@ -1,0 +1,261 @@
+//! The pixel evidence of the ropes of one video, for `perceived`: where each rope's pixels are
+//! in a frame (its mask, filled by the pixels of its colour), each rope's path read from them
+//! frame by frame (`FrameReader`), and candidate fixed points where a rope's pixels end with no
+//! detected object there (`loose_ends`).
+//!
+//! Input: the first pass's detections and frames, the nodes placed so far, the camera. Output:
+//! per frame, each rope's path (`topology::read_ropes`), and the candidate nodes.
+
+use super::perceived::{FirstPass, SAME_OBJECT_DISTANCE, lift};
+use super::topology::{Node, NodeKind, RopePath, distance, read_ropes};
+use crate::dataset::Camera;
+use crate::perception::camera::CameraModel;
+use crate::perception::color::{srgb_to_linear, wall_color};
+use crate::perception::detection::{Detection, InstanceMask};
+use crate::perception::frames::RgbFrame;
+
+/// Farther than this beyond a node's body from every node, a rope's end pixel is a loose end,
+/// units.
+const LOOSE_END_CLEARANCE: f64 = 0.5;
+
+/// Candidate fixed points where the ropes' pixels end: the top and bottom of each rope's first
+/// mask, lifted onto the scene plane, when no node (or earlier candidate) is near.
+pub(super) fn loose_ends(
+    ropes: &[(usize, &Detection)],
+    nodes: &[Node],
+    model: &CameraModel,
+    camera: &Camera,
+) -> Vec<Node> {
+    let mut found: Vec<Node> = Vec::new();
+    for (_, detection) in ropes {
+        let mut top: Option<(u32, u32)> = None;
+        let mut bottom: Option<(u32, u32)> = None;
+        for (x, y) in detection.mask.pixels() {
+            if top.is_none_or(|(_, ty)| y < ty) {
+                top = Some((x, y));
+            }
+            if bottom.is_none_or(|(_, by)| y >= by) {
+                bottom = Some((x, y));
+            }
+        }
+        for (x, y) in [top, bottom].into_iter().flatten() {
+            let Some(centre) = lift(model, camera, f64::from(x) + 0.5, f64::from(y) + 0.5) else {
+                continue;
+            };
+            let near = nodes.iter().any(|node| {
+                distance(node.centre, centre) < node.kind.body_radius() + LOOSE_END_CLEARANCE
+            }) || found
+                .iter()
+                .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE);
+            if !near {
+                found.push(Node {
+                    kind: NodeKind::Anchor,
+                    centre,
+                });
+            }
+        }
+    }
+    found
+}
+
+/// Reads the ropes of one frame.
+pub(super) struct FrameReader<'a> {
+    pub(super) pass: &'a FirstPass<'a>,
+    pub(super) model: &'a CameraModel,
+    /// How far from a sample point a rope pixel may be and still cover it, pixels.
+    pub(super) reach_px: f64,
+}
+
+impl FrameReader<'_> {
+    /// Each rope's path in one frame: `nodes` where they are in it, `ropes` each rope's
+    /// detection there (`None`: not seen, not read), `frame` its pixels (`None`: masks only).
+    pub(super) fn read(
+        &self,
+        nodes: &[Node],
+        ropes: &[Option<&Detection>],
+        frame: Option<&RgbFrame>,
+    ) -> Vec<Option<RopePath>> {
+        let (width, height) = self.pass.size;
+        let frame_detections = frame.and_then(|f| self.pass.detections.get(&f.index));
+        let wall = frame.and_then(|frame| {
+            let masks: Vec<&InstanceMask> = frame_detections
+                .map(|list| list.iter().map(|d| &d.mask).collect())
+                .unwrap_or_default();
+            wall_color(frame, &masks)
+        });
+        // The pixels of the objects that are not ropes, in this frame.
+        let mut occupied = vec![false; frame.map_or(0, |f| f.width as usize * f.height as usize)];
+        if let Some(frame) = frame {
+            for detection in frame_detections.into_iter().flatten() {
+                if self.pass.classes.name(detection.class) != "rope" {
+                    for (x, y) in detection.mask.pixels() {
+                        if let Some(slot) =
+                            occupied.get_mut(y as usize * frame.width as usize + x as usize)
+                        {
+                            *slot = true;
+                        }
+                    }
+                }
+            }
+        }
+        let evidence: Vec<Option<RopeEvidence>> = ropes
+            .iter()
+            .map(|detection| detection.map(|d| RopeEvidence::new(d, frame.zip(wall), &occupied)))
+            .collect();
+        let reach_px = self.reach_px;
+        let model = self.model;
+        let mut covers = |rope: usize, point: [f64; 2]| -> Option<bool> {
+            let evidence = evidence.get(rope)?.as_ref()?;
+            let seen = model.project([point[0], point[1], 0.0])?;
+            if seen.depth <= 0.0
+                || seen.x < 0.0
+                || seen.y < 0.0
+                || seen.x >= f64::from(width)
+                || seen.y >= f64::from(height)
+            {
+                return None;
+            }
+            // In the frame (checked above) and a few pixels wide: small and non-negative.
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "pixel coordinates inside the frame and a radius of a few pixels"
+            )]
+            let (reach, cx, cy) = (
+                reach_px.ceil().min(64.0) as i64,
+                seen.x.floor() as i64,
+                seen.y.floor() as i64,
+            );
+            let squared = reach_px * reach_px;
+            for dy in -reach..=reach {
+                for dx in -reach..=reach {
+                    if (dx * dx + dy * dy) as f64 > squared {
+                        continue;
+                    }
+                    let (x, y) = (cx + dx, cy + dy);
+                    if x >= 0
+                        && y >= 0
+                        && let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y))
+                        && evidence.contains(x, y)
+                    {
+                        return Some(true);
+                    }
+                }
+            }
+            Some(false)
+        };
+        let mut paths = read_ropes(nodes, ropes.len(), &mut covers);
+        // A rope not seen in this frame has no path here (all its samples were unobservable).
+        for (path, detection) in paths.iter_mut().zip(ropes) {
+            if detection.is_none() {
+                *path = None;
+            }
+        }
+        paths
+    }
+}
+
+/// A pixel's colour relative to the wall: chromaticity (r, g) and log brightness, of linear RGB
+/// divided by the wall's (the per-pixel form of `perception::color::features`).
+fn pixel_feature(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<[f64; 3]> {
+    let p = frame.pixel(x, y)?.map(srgb_to_linear);
+    let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
+    let sum = relative[0] + relative[1] + relative[2] + 1e-6;
+    let feature = [relative[0] / sum, relative[1] / sum, sum.ln()];
+    feature.iter().all(|v| v.is_finite()).then_some(feature)
+}
+
+/// How different two pixel features are: chromaticity distance plus a little of the brightness
+/// ratio (shading along a rope changes brightness more than hue).
+fn feature_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1]) + BRIGHTNESS_WEIGHT * (a[2] - b[2]).abs()
+}
+
+/// Weight of log brightness against chromaticity in [`feature_distance`].
+const BRIGHTNESS_WEIGHT: f64 = 0.15;
+/// Farthest a pixel's feature may be from its rope's and still count as the rope.
+const MAX_ROPE_DISTANCE: f64 = 0.09;
+
+/// Where one rope's pixels are: its mask, and the pixels near its box whose colour is the
+/// rope's rather than the wall's. The detector's 28×28 mask of a long thin rope is broken; the
+/// colour fills the gaps.
+struct RopeEvidence {
+    mask: InstanceMask,
+    /// The colour-matched pixels over `(left, top, width, height)`.
+    left: u32,
+    top: u32,
+    width: u32,
+    height: u32,
+    bits: Vec<bool>,
+}
+
+impl RopeEvidence {
+    /// `occupied` marks, row by row over the whole frame, the pixels of the other objects.
+    fn new(
+        detection: &Detection,
+        frame_and_wall: Option<(&RgbFrame, [f64; 3])>,
+        occupied: &[bool],
+    ) -> RopeEvidence {
+        let mut evidence = RopeEvidence {
+            mask: detection.mask.clone(),
+            left: 0,
+            top: 0,
+            width: 0,
+            height: 0,
+            bits: Vec::new(),
+        };
+        let Some((frame, wall)) = frame_and_wall else {
+            return evidence;
+        };
+        // The rope's colour: the per-channel median feature of the half of its mask's pixels
+        // least like the wall (a thin rope's mask is a band, mostly wall).
+        let wall_feature = [1.0 / 3.0, 1.0 / 3.0, 3.0_f64.ln()];
+        let mut pixels: Vec<[f64; 3]> = detection
+            .mask
+            .pixels()
+            .filter_map(|(x, y)| pixel_feature(frame, x, y, wall))
+            .collect();
+        if pixels.len() < 20 {
+            return evidence;
+        }
+        pixels.sort_by(|a, b| {
+            feature_distance(*a, wall_feature).total_cmp(&feature_distance(*b, wall_feature))
+        });
+        let rope_like = &pixels[pixels.len() / 2..];
+        let reference = [0, 1, 2].map(|c| {
+            let mut values: Vec<f64> = rope_like.iter().map(|f| f[c]).collect();
+            values.sort_by(f64::total_cmp);
+            values[values.len() / 2]
+        });
+        // The whole frame, less the objects: the detector's box often misses part of a long
+        // rope, and an object of the rope's colour is not rope.
+        let (width, height) = (frame.width, frame.height);
+        evidence.width = width;
+        evidence.height = height;
+        evidence.bits = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .zip(occupied)
+            .map(|((x, y), object)| {
+                !object
+                    && pixel_feature(frame, x, y, wall).is_some_and(|f| {
+                        let to_rope = feature_distance(f, reference);
+                        to_rope < MAX_ROPE_DISTANCE && to_rope < feature_distance(f, wall_feature)
+                    })
+            })
+            .collect();
+        evidence
+    }
+
+    fn contains(&self, x: u32, y: u32) -> bool {
+        if self.mask.contains(x, y) {
+            return true;
+        }
+        if x < self.left
+            || y < self.top
+            || x >= self.left + self.width
+            || y >= self.top + self.height
+        {
+            return false;
+        }
+        self.bits[((y - self.top) * self.width + (x - self.left)) as usize]
+    }
+}
