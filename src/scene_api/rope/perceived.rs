@@ -4,10 +4,11 @@
 //! particles), so `--perception maskrcnn --dynamics simulate` runs the same scene code and
 //! simulator as the oracle, on what the detector saw instead of what the generator recorded.
 //!
-//! Input: the first-pass tracks of the video (class, colour, detections with masks), the frames'
-//! size and the camera calibration. Each non-rope track becomes a node at its mask centroid
-//! lifted onto the scene plane `z = 0`; each rope's path is read from its mask
-//! (`rope_topology`). Output: a [`PerceivedRope`]. Nothing recorded by the generator is read
+//! Input: the first-pass tracks of the video (class, colour, detections with masks), its frames,
+//! the frames' size and the camera calibration. Each non-rope track becomes a node at its mask
+//! centroid lifted onto the scene plane `z = 0`; each rope's path is read from its pixels in every
+//! first-pass frame and voted on (`evidence`, `topology`), and a rope end with no object under it
+//! becomes a fixed point. Output: a [`PerceivedRope`]. Nothing recorded by the generator is read
 //! except the camera calibration (position, angles, field of view), which is an input of
 //! perception as it would be for a calibrated real rig; `mirrored` is derived from it (the
 //! camera sits at `z < 0`).
