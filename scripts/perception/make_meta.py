@@ -105,7 +105,7 @@ def main():
                 "frame_key": "frame_NNNNN.png is annotation key NNNNN+1 (checked: boxes equal mask boxes)",
             },
             "training_videos": training_videos(ck["training_files"], a.videos),
-            "real": "none: the release's real video is a held-out test only (no real frame in any training set)",
+            "held_out": "the release's real video: a test only (metrics.real_frames), never a training input",
         },
         "metrics": ev,
         "metrics_note": "AP@0.5 (all-point interpolated), per class, onnxruntime with the baked-in score threshold "

@@ -106,14 +106,16 @@ impl FrameFinish {
         if rgb.len() != width * height * 3 {
             return;
         }
-        let source: Vec<f64> = rgb.iter().map(|&b| f64::from(b)).collect();
+        // The unblurred frame, kept only when the blur reads neighbours that are rewritten.
+        let source: Option<Vec<f64>> =
+            (self.blur > 0.0).then(|| rgb.iter().map(|&b| f64::from(b)).collect());
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, &format!("frame/{index}")));
         for y in 0..height {
             for x in 0..width {
                 for channel in 0..3 {
                     let at = (y * width + x) * 3 + channel;
-                    let mut value = source[at];
-                    if self.blur > 0.0 {
+                    let mut value = f64::from(rgb[at]);
+                    if let Some(source) = &source {
                         let mut sum = 0.0;
                         let mut count = 0.0;
                         for ny in y.saturating_sub(1)..=(y + 1).min(height - 1) {

@@ -143,14 +143,9 @@ impl FrameReader<'_> {
             }
             Some(false)
         };
-        let mut paths = read_ropes(nodes, ropes.len(), &mut covers);
-        // A rope not seen in this frame has no path here (all its samples were unobservable).
-        for (path, detection) in paths.iter_mut().zip(ropes) {
-            if detection.is_none() {
-                *path = None;
-            }
-        }
-        paths
+        // A rope not seen in this frame has no path here.
+        let seen: Vec<bool> = ropes.iter().map(Option::is_some).collect();
+        read_ropes(nodes, &seen, &mut covers)
     }
 }
 

@@ -351,17 +351,22 @@ fn segment_support(
     (covered as f64 >= MIN_SEGMENT_COVERAGE * observed as f64).then_some((covered, missed))
 }
 
-/// Reads each rope's path: for every rope `0..ropes`, the chain of supported segments with the
-/// most covered samples (ties: fewer missed, then fewer nodes, then the lower node indices),
-/// among chains that start and end at nodes a rope can end at and wrap only pulleys in between.
-/// `covers(rope, point)` says whether rope `rope`'s pixels cover a scene point.
+/// Reads each rope's path: for every rope whose `seen` entry is true, the chain of supported
+/// segments with the most covered samples (ties: fewer missed, then fewer nodes, then the lower
+/// node indices), among chains that start and end at nodes a rope can end at and wrap only
+/// pulleys in between; a rope not seen has no path (and costs no search). `covers(rope, point)`
+/// says whether rope `rope`'s pixels cover a scene point.
 pub(crate) fn read_ropes(
     nodes: &[Node],
-    ropes: usize,
+    seen: &[bool],
     covers: &mut dyn FnMut(usize, [f64; 2]) -> Option<bool>,
 ) -> Vec<Option<RopePath>> {
-    (0..ropes)
-        .map(|rope| read_rope(nodes, &mut |point| covers(rope, point)))
+    seen.iter()
+        .enumerate()
+        .map(|(rope, &seen)| {
+            seen.then(|| read_rope(nodes, &mut |point| covers(rope, point)))
+                .flatten()
+        })
         .collect()
 }
 
@@ -562,7 +567,7 @@ mod tests {
         let mut covers = |rope: usize, point: [f64; 2]| {
             Some(rope == 0 && drawn.iter().any(|p| distance(*p, point) < 0.3))
         };
-        let read = read_ropes(&nodes, 2, &mut covers);
+        let read = read_ropes(&nodes, &[true, true], &mut covers);
         let path = read[0].as_ref().unwrap();
         assert_eq!(path.nodes, truth.nodes);
         assert_eq!(path.turns, truth.turns);
