@@ -23,14 +23,57 @@ GENERATE = [
 ]
 
 
-def training_videos(files, videos_root):
+def training_videos(files, videos_root, prefix=""):
     """[{video, outputs_sha256}] of the cache files (train-rand/5.npz -> train-rand/pulley_group/5)."""
     out = []
     for f in files:
         root, name = os.path.split(f)
+        # A zoom-X cache holds full-resolution windows of the train-X videos (prep_data --zoom).
+        if root.startswith("zoom-"):
+            root = "train-" + root[len("zoom-"):]
         video = os.path.join(root, "pulley_group", os.path.splitext(name)[0])
         data = open(os.path.join(videos_root, video, "outputs.json"), "rb").read()
-        out.append({"video": video, "outputs_sha256": hashlib.sha256(data).hexdigest()})
+        out.append({"video": prefix + video, "outputs_sha256": hashlib.sha256(data).hexdigest()})
+    return out
+
+
+def all_training_videos(ck, videos_root, init_roots):
+    """The training videos of a checkpoint and of every checkpoint it was initialised from,
+    each once."""
+    out, seen = [], set()
+    level, roots = ck, [videos_root] + list(init_roots)
+    for root in roots:
+        if level is None:
+            break
+        prefix = "" if os.path.normpath(root) == os.path.normpath(videos_root) else "pretraining/"
+        for video in training_videos(level["training_files"], root, prefix):
+            key = (video["video"], video["outputs_sha256"])
+            if key not in seen:
+                seen.add(key)
+                out.append(video)
+        level = level.get("init")
+    if level is not None:
+        raise SystemExit("an earlier stage has no --init-videos directory")
+    return out
+
+
+def stages(ck):
+    """Training stages, first first: iterations, minutes and starting point."""
+    chain, level = [], ck
+    while level is not None:
+        chain.append(level)
+        level = level.get("init")
+    out = []
+    for index, level in enumerate(reversed(chain)):
+        args = level.get("args", {})
+        out.append({
+            "stage": index + 1,
+            "iterations": level.get("iter", level.get("iterations")),
+            "minutes": round(level["seconds"] / 60, 1) if "seconds" in level else level.get("minutes"),
+            "from": "scratch" if index == 0 else "the previous stage",
+            "scale_augmentation": args.get("scale", [0.8, 1.25]) if args else None,
+            "caches": [os.path.basename(c) for c in args.get("cache", [])] if args else None,
+        })
     return out
 
 
@@ -44,6 +87,11 @@ def main():
     ap.add_argument("--nms", type=float, default=0.5)
     ap.add_argument("--detections", type=int, default=24)
     ap.add_argument("--videos", required=True, help="directory holding the generated data roots")
+    ap.add_argument("--init-videos", action="append", default=[],
+                    help="per earlier stage (train.py --init, most recent first), the directory holding its data "
+                         "roots; a stage whose directory is --videos is listed as is, another under pretraining/")
+    ap.add_argument("--init-generate", action="append", default=[],
+                    help="the generate commands of the pretraining data (repeatable)")
     ap.add_argument("--loss-csv", help="train.py's loss.csv: final losses = mean of its last 10 rows")
     a = ap.parse_args()
     ck = json.load(open(a.ckpt_json))
@@ -89,24 +137,31 @@ def main():
                          "over the wall-clock budget to 5%, grad-norm clip 10",
             "torch_threads": args["threads"], "final_losses": final,
             "seconds_per_iteration": round(ck["seconds"] / max(ck["iter"], 1), 3),
-            "augmentation": "scale x U(0.8,1.25) with a random shift (p=0.7), horizontal flip p=0.5, brightness "
-                            "x U(0.75,1.25), contrast x U(0.8,1.2), saturation x U(0.85,1.15); hue never changed. "
-                            "The generator randomises light, wall, colours (within their names), noise and blur "
-                            "(--appearance randomized)",
+            "augmentation": f"scale x U({args.get('scale', [0.8, 1.25])[0]},{args.get('scale', [0.8, 1.25])[1]}) "
+                            "with a random shift (p=0.7), horizontal flip p=0.5, wall texture (two octaves of "
+                            f"value noise on the background, cell 1-12 px, contrast U(0.05,0.45), p={args.get('texture', 0.0)}), "
+                            "brightness x U(0.75,1.25), contrast x U(0.8,1.2), saturation x U(0.85,1.15); hue "
+                            "never changed. The generator randomises light, wall, colours (within their names), "
+                            "rope strands, shadows, noise and blur (--appearance randomized)",
         },
         "data": {
             "generated": {
                 "commands": GENERATE,
                 "train_videos": ck["generated_videos"], "train_frames": ck["generated_frames"],
-                "mix": "train-rand (randomised appearance) and train-rel (the release's look), sampled uniformly by frame",
+                "mix": "train-rand (randomised appearance) and train-rel (the release's look), each as the whole "
+                       "frame box-averaged to 480x270 (every 3rd frame) and as 480x270 windows of the 960x540 frame "
+                       "round the objects (zoom-rand, zoom-rel: every 6th frame; the camera twice as close), sampled "
+                       "uniformly by frame",
                 "frames_note": "every 3rd frame of each video (offset video_id % 3); 960x540 PNG -> 480x270 by "
                                "2x2 box average (round half up); masks: an instance owns an output pixel if it "
                                "covers >= 2 of its 4 source pixels; instances under 6 pixels dropped",
                 "frame_key": "frame_NNNNN.png is annotation key NNNNN+1 (checked: boxes equal mask boxes)",
             },
-            "training_videos": training_videos(ck["training_files"], a.videos),
+            "training_videos": all_training_videos(ck, a.videos, a.init_videos),
             "held_out": "the release's real video: a test only (metrics.real_frames), never a training input",
         },
+        "stages": stages(ck),
+        "pretraining_commands": a.init_generate,
         "metrics": ev,
         "metrics_note": "AP@0.5 (all-point interpolated), per class, onnxruntime with the baked-in score threshold "
                         "(recall is capped by it); masks pasted with paste_masks_in_image(padding=1) > 0.5 and "

@@ -1,6 +1,6 @@
 """Build 480x270 training/eval caches (one .npz per video) from generated PNG videos or the real mp4.
 
-  python prep_data.py generated DATA_ROOT OUT_DIR [--every 3]
+  python prep_data.py generated DATA_ROOT OUT_DIR [--every 3] [--zoom]
   python prep_data.py real SAMPLE_VIDEO_DIR OUT_FILE
 
 Cache: imgs [F,270,480,3] uint8, inst [F,270,480] uint8 (instance ids), keys [F] (annotation keys),
@@ -38,7 +38,22 @@ def class_table(names):
     return t
 
 
-def prep_generated(root, out, every):
+def zoom_window(full, key, vid):
+    """A 480x270 window of the 960x540 frame at its own resolution (objects twice as large as in
+    the box-averaged frame), centred near the objects' pixels with a jitter drawn from the video
+    id and the annotation key (deterministic)."""
+    h, w = full.shape
+    rng = np.random.default_rng(vid * 100003 + key)
+    ys, xs = np.nonzero(full)
+    cy, cx = (ys.mean(), xs.mean()) if len(xs) else (h / 2, w / 2)
+    cy += rng.uniform(-0.25, 0.25) * IN_H
+    cx += rng.uniform(-0.35, 0.35) * IN_W
+    y0 = int(np.clip(round(cy - IN_H / 2), 0, h - IN_H))
+    x0 = int(np.clip(round(cx - IN_W / 2), 0, w - IN_W))
+    return y0, x0
+
+
+def prep_generated(root, out, every, zoom=False):
     os.makedirs(out, exist_ok=True)
     vids = sorted((p for p in glob.glob(os.path.join(root, "pulley_group", "*")) if os.path.basename(p).isdigit()), key=lambda p: int(os.path.basename(p)))
     for vn, vd in enumerate(vids):
@@ -65,8 +80,13 @@ def prep_generated(root, out, every):
             if i == vid % every or i == len(files) // 2:
                 assert check_boxes(full, boxes, key, vd) == 0, f"frame {i} != key {key} in {vd}"
             f = rgb.shape[0] // IN_H
-            imgs.append(box_average(rgb, f))
-            insts.append(downscale_instance_map(full, f, list(colours)))
+            if zoom and f == 2:
+                y0, x0 = zoom_window(full, key, vid)
+                imgs.append(np.ascontiguousarray(rgb[y0:y0 + IN_H, x0:x0 + IN_W]))
+                insts.append(np.ascontiguousarray(full[y0:y0 + IN_H, x0:x0 + IN_W]).astype(np.uint8))
+            else:
+                imgs.append(box_average(rgb, f))
+                insts.append(downscale_instance_map(full, f, list(colours)))
             keys.append(key)
         np.savez_compressed(dst, imgs=np.stack(imgs), inst=np.stack(insts), keys=np.array(keys), classes=cls)
         print(f"{vd}: {len(keys)} frames", flush=True)
@@ -114,8 +134,11 @@ if __name__ == "__main__":
     ap.add_argument("src")
     ap.add_argument("out")
     ap.add_argument("--every", type=int, default=3)
+    ap.add_argument("--zoom", action="store_true",
+                    help="480x270 windows of the 960x540 frames at full resolution (a 2x camera zoom "
+                         "with real detail) instead of the box-averaged whole frame")
     a = ap.parse_args()
     if a.mode == "generated":
-        prep_generated(a.src, a.out, a.every)
+        prep_generated(a.src, a.out, a.every, a.zoom)
     else:
         prep_real(a.src, a.out)

@@ -49,11 +49,14 @@ class Pool:
         return self.gen[rng.randrange(len(self.gen))]
 
 
+SCALE = (0.8, 1.25)
+
+
 def rescale(img, m, rng):
-    """Scale by U(0.8, 1.25) about a random point and crop/pad back to the input size (padding
+    """Scale by U(SCALE) about a random point and crop/pad back to the input size (padding
     with the image's median colour, the wall)."""
     h, w = m.shape
-    s = rng.uniform(0.8, 1.25)
+    s = rng.uniform(*SCALE)
     nh, nw = max(1, round(h * s)), max(1, round(w * s))
     ys = np.clip(((np.arange(nh) + 0.5) / s - 0.5).round().astype(int), 0, h - 1)
     xs = np.clip(((np.arange(nw) + 0.5) / s - 0.5).round().astype(int), 0, w - 1)
@@ -75,6 +78,34 @@ def rescale(img, m, rng):
     return out, om
 
 
+TEXTURE_P = 0.0
+
+
+def wall_texture(img, m, rng):
+    """Multiplies the wall (instance 0) by a random procedural texture, so that a textured
+    background is not taken for rope: two octaves of bilinear value noise with a cell of 1 to 12
+    pixels, stretched up to 4x either way, contrast U(0.05, 0.45). Objects keep their pixels;
+    the wall keeps its light and shadows under the texture."""
+    h, w = m.shape
+    noise_rng = np.random.default_rng(rng.randrange(2 ** 31))
+    factor = np.zeros((h, w), np.float32)
+    cell = rng.choice([1, 1, 2, 2, 3, 4, 6, 8, 12])
+    stretch = rng.choice([1, 1, 1, 2, 4])
+    cells = (cell * stretch, cell) if rng.random() < 0.5 else (cell, cell * stretch)
+    for octave, weight in ((1, 0.65), (3, 0.35)):
+        cy, cx = cells[0] * octave, cells[1] * octave
+        gh, gw = h // cy + 2, w // cx + 2
+        grid = torch.from_numpy(noise_rng.random((gh, gw), dtype=np.float32))[None, None]
+        up = torch.nn.functional.interpolate(grid, size=(gh * cy, gw * cx), mode="bilinear",
+                                             align_corners=False)[0, 0, :h, :w].numpy()
+        factor += weight * (up - 0.5) * 2.0
+    factor = 1.0 + rng.uniform(0.05, 0.45) * factor
+    img = np.array(img, copy=True)
+    bg = m == 0
+    img[bg] = np.clip(img[bg] * factor[bg, None], 0.0, 1.0)
+    return img
+
+
 def make_sample(item, rng):
     imgs, inst, cls, i = item
     img = imgs[i].astype(np.float32) / 255.0
@@ -84,6 +115,8 @@ def make_sample(item, rng):
     if rng.random() < 0.5:  # horizontal flip
         img = img[:, ::-1]
         m = m[:, ::-1]
+    if rng.random() < TEXTURE_P:
+        img = wall_texture(img, m, rng)
     classes = {iid: int(cls[iid]) for iid in np.unique(m) if iid != 0}
     boxes, labels, masks = targets_from_map(m, classes)
     # Brightness, contrast and saturation; hue is left alone (colour names are labels).
@@ -109,8 +142,17 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--ckpt-minutes", type=float, default=10)
     ap.add_argument("--log-every", type=int, default=10)
+    ap.add_argument("--scale", type=float, nargs=2, default=[0.8, 1.25], metavar=("LOW", "HIGH"),
+                    help="range of the random rescale augmentation")
+    ap.add_argument("--texture", type=float, default=0.0,
+                    help="probability of the wall-texture augmentation (wall_texture)")
+    ap.add_argument("--init", help="start from this checkpoint (.pt) instead of from scratch; its own "
+                    "training files are carried into this run's metadata")
     a = ap.parse_args()
 
+    global SCALE, TEXTURE_P
+    SCALE = tuple(a.scale)
+    TEXTURE_P = a.texture
     torch.set_num_threads(a.threads)
     random.seed(a.seed)
     np.random.seed(a.seed)
@@ -124,6 +166,15 @@ def main():
         pool.rescan()
     print(f"generated frames {len(pool.gen)} from {len(pool.loaded)} videos", flush=True)
     model = build_model()
+    init_meta = None
+    if a.init:
+        state = torch.load(a.init, map_location="cpu", weights_only=False)
+        model.load_state_dict(state["model"])
+        init_meta = {"checkpoint": os.path.basename(a.init), "iterations": state["meta"]["iter"],
+                     "minutes": round(state["meta"]["seconds"] / 60, 1),
+                     "training_files": state["meta"]["training_files"], "args": state["meta"].get("args"),
+                     "init": state["meta"].get("init")}
+        print(f"initialised from {a.init} ({init_meta['iterations']} iterations)", flush=True)
     model.train()
     params = [p for p in model.parameters() if p.requires_grad]
     opt = torch.optim.AdamW(params, lr=a.lr, weight_decay=1e-4)
@@ -141,7 +192,8 @@ def main():
         meta = {"iter": it, "seconds": time.time() - start, "args": vars(a), "config": CONFIG,
                 "generated_frames": len(pool.gen), "generated_videos": len(pool.loaded),
                 "training_files": [os.path.relpath(p, os.path.dirname(c)) for p in pool.loaded
-                                   for c in a.cache if os.path.dirname(p) == os.path.normpath(c)], "last_losses": {k: v / max(n_acc, 1) for k, v in acc.items()}}
+                                   for c in a.cache if os.path.dirname(p) == os.path.normpath(c)], "last_losses": {k: v / max(n_acc, 1) for k, v in acc.items()},
+                "init": init_meta}
         torch.save({"model": model.state_dict(), "meta": meta}, os.path.join(a.out, f"{tag}.pt"))
         json.dump(meta, open(os.path.join(a.out, f"{tag}.json"), "w"), indent=1)
 

@@ -6,7 +6,8 @@
 //! Input: a [`SynthesizedVideo`] and a seed. [`randomize`] redraws the video's light (direction,
 //! ambient, diffuse, highlight), its wall (colour, texture scale and contrast) and jitters each
 //! labelled object's colour by a few percent (the same in every frame, small enough that its
-//! palette name stays right); it returns a [`FrameFinish`], which [`FrameFinish::apply`] uses
+//! palette name stays right), redraws painted stripes (period, depth) and the drop shadow
+//! (offset, penumbra, strength); it returns a [`FrameFinish`], which [`FrameFinish::apply`] uses
 //! after rendering each frame: white balance, gamma, a light blur and Gaussian sensor noise.
 //! Geometry, simulation, annotations and masks are untouched, so a randomised video answers its
 //! questions exactly as the release-looking one of the same seed. Every draw comes from a seeded
@@ -18,6 +19,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::SynthesizedVideo;
+use super::raster::Stripes;
+use super::shadow::Shadow;
 use crate::util::derive_seed;
 
 /// How generated frames look.
@@ -68,6 +71,9 @@ pub fn randomize(video: &mut SynthesizedVideo, seed: u64) -> FrameFinish {
     video.wall.color = [0; 3].map(|_| (grey * rng.random_range(0.96..1.03)).min(1.0));
     video.wall.frequency = rng.random_range(0.5..3.0);
     video.wall.contrast = rng.random_range(0.1..0.6);
+    // Streaks either way or none: the grain's stretch ratio spans 1:5 to 5:1.
+    let stretch: f64 = rng.random_range(-1.6_f64..1.6).exp();
+    video.wall.grain = [1.3 * stretch.sqrt(), 1.3 / stretch.sqrt()];
     video.wall.variant = rng.random_range(0..1_000_000);
     // One colour factor per labelled instance, drawn in instance order (deterministic).
     let mut factors: BTreeMap<u32, [f64; 3]> = BTreeMap::new();
@@ -77,6 +83,21 @@ pub fn randomize(video: &mut SynthesizedVideo, seed: u64) -> FrameFinish {
     for factor in factors.values_mut() {
         *factor = [0; 3].map(|_| rng.random_range(0.93..1.07));
     }
+    // Stripes per striped instance, drawn in instance order after the colours.
+    let mut stripes: BTreeMap<u32, Stripes> = BTreeMap::new();
+    for frame in &video.frames {
+        for item in frame {
+            if let Some(pattern) = item.stripes {
+                stripes.entry(item.instance).or_insert(pattern);
+            }
+        }
+    }
+    for pattern in stripes.values_mut() {
+        pattern.period = rng.random_range(0.1..0.6);
+        pattern.dark_share = rng.random_range(0.25..0.6);
+        pattern.dark = rng.random_range(0.15..0.85);
+        pattern.softness = rng.random_range(0.1..0.5);
+    }
     for frame in &mut video.frames {
         for item in frame.iter_mut() {
             if let Some(factor) = factors.get(&item.instance) {
@@ -84,8 +105,21 @@ pub fn randomize(video: &mut SynthesizedVideo, seed: u64) -> FrameFinish {
                     *channel = (*channel * scale).clamp(0.0, 1.0);
                 }
             }
+            if item.stripes.is_some() {
+                item.stripes = stripes.get(&item.instance).copied();
+            }
         }
     }
+    let shadow_angle: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+    let shadow_distance: f64 = rng.random_range(0.0..0.016);
+    video.shadow = Shadow {
+        offset: [
+            shadow_distance * shadow_angle.cos(),
+            shadow_distance * shadow_angle.sin(),
+        ],
+        blur: rng.random_range(0.001..0.012),
+        strength: rng.random_range(0.0..0.6),
+    };
     FrameFinish {
         gain: [0; 3].map(|_| rng.random_range(0.95..1.05)),
         gamma: rng.random_range(0.85..1.15),

@@ -22,6 +22,8 @@ pub struct Wall {
     /// Texture contrast: the shade spans `1 − 0.6·contrast … 1 + 0.4·contrast` (0.3 for the
     /// release's plaster).
     pub contrast: f64,
+    /// Stretch of the noise along `x` and `y` (`[3.0, 0.6]`: the release's vertical streaks).
+    pub grain: [f64; 2],
 }
 
 /// Renders the wall as seen by `camera` (RGB bytes, the camera's size).
@@ -48,7 +50,11 @@ pub fn render_wall(camera: &CameraModel, wall: &Wall, light: &Light) -> Vec<u8> 
             let texture = if t > 0.0 {
                 let u = camera.position[0] + t * ray[0];
                 let v = camera.position[1] + t * ray[1];
-                plaster(u * wall.frequency, v * wall.frequency, wall.variant)
+                plaster(
+                    u * wall.frequency * wall.grain[0],
+                    v * wall.frequency * wall.grain[1],
+                    wall.variant,
+                )
             } else {
                 0.5
             };
@@ -62,14 +68,14 @@ pub fn render_wall(camera: &CameraModel, wall: &Wall, light: &Light) -> Vec<u8> 
     rgb
 }
 
-/// Plaster texture in `[0, 1]`: three octaves of value noise, stretched vertically for streaks.
+/// Plaster texture in `[0, 1]`: three octaves of value noise (stretched by the wall's grain).
 fn plaster(u: f64, v: f64, variant: u64) -> f64 {
     let mut total = 0.0;
     let mut weight = 0.5;
     let mut frequency = 1.0;
     let mut norm = 0.0;
     for octave in 0..3_u64 {
-        total += weight * value_noise(u * frequency * 3.0, v * frequency * 0.6, variant + octave);
+        total += weight * value_noise(u * frequency, v * frequency, variant + octave);
         norm += weight;
         weight *= 0.5;
         frequency *= 2.7;
@@ -122,6 +128,7 @@ mod tests {
             color: [0.8, 0.78, 0.74],
             variant: 3,
             frequency: 2.0,
+            grain: [3.0, 0.6],
             contrast: 0.3,
         };
         let light = Light {

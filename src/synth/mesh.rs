@@ -15,8 +15,12 @@ pub struct Mesh {
     pub positions: Vec<[f64; 3]>,
     /// Unit normals, one per vertex.
     pub normals: Vec<[f64; 3]>,
-    /// Brightness factor per vertex (1 plain; below 1 for painted marks such as rope stripes).
+    /// Brightness factor per vertex (1 plain; below 1 for painted marks).
     pub tints: Vec<f64>,
+    /// Pattern coordinate per vertex, units (arc length along a tube plus its twist; 0 on
+    /// meshes without a pattern). The rasterizer paints stripes on it per pixel
+    /// ([`super::raster::Stripes`]), so stripes stay sharp however far apart the vertices are.
+    pub along: Vec<f64>,
     /// Triangles as vertex indices.
     pub triangles: Vec<[u32; 3]>,
 }
@@ -72,6 +76,7 @@ impl Mesh {
         self.positions.push(position);
         self.normals.push(normal);
         self.tints.push(1.0);
+        self.along.push(0.0);
         u32::try_from(self.positions.len() - 1).unwrap_or(u32::MAX)
     }
 
@@ -81,6 +86,7 @@ impl Mesh {
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
         self.tints.extend_from_slice(&other.tints);
+        self.along.extend_from_slice(&other.along);
         self.triangles.extend(
             other
                 .triangles
@@ -100,6 +106,7 @@ impl Mesh {
                 .map(|n| pose.apply_direction(*n))
                 .collect(),
             tints: self.tints.clone(),
+            along: self.along.clone(),
             triangles: self.triangles.clone(),
         }
     }
@@ -213,14 +220,20 @@ impl Mesh {
         mesh
     }
 
-    /// A tube of `radius` along a polyline (at least two points), with `sides` facets. Every
-    /// `stripe` units of length along the path the tint alternates, as the release's ropes are
-    /// striped; `None` keeps one tint.
-    pub fn tube(path: &[[f64; 3]], radius: f64, sides: u32, stripe: Option<f64>) -> Mesh {
+    /// A tube of `radius` along a polyline (at least two points), with `sides` facets.
+    ///
+    /// With `twist: Some(t)` the tube carries a pattern coordinate for painted stripes: arc
+    /// length plus `t · radius · angle` around the tube, so stripes wind round it as the strands
+    /// of the release's twisted rope do (`t = 0`: rings straight across). Each ring then has one
+    /// more vertex closing the seam, so the coordinate is never interpolated across the jump
+    /// from a full turn back to zero. `None` keeps the plain layout (`sides` vertices a ring), as
+    /// `outputs4D.json` stores it.
+    pub fn tube(path: &[[f64; 3]], radius: f64, sides: u32, twist: Option<f64>) -> Mesh {
         let mut mesh = Mesh::default();
         if path.len() < 2 {
             return mesh;
         }
+        let ring_vertices = if twist.is_some() { sides + 1 } else { sides };
         let mut length = 0.0;
         let mut rings: Vec<u32> = Vec::with_capacity(path.len());
         for (index, point) in path.iter().enumerate() {
@@ -239,19 +252,8 @@ impl Mesh {
             };
             let side = normalized(cross(tangent, helper));
             let up = cross(side, tangent);
-            let tint = match stripe {
-                Some(width) if width > 0.0 => {
-                    #[expect(
-                        clippy::cast_possible_truncation,
-                        reason = "a stripe counter along a tube of tens of units"
-                    )]
-                    let band = (length / width).floor() as i64;
-                    if band % 2 == 0 { 1.0 } else { 0.55 }
-                }
-                _ => 1.0,
-            };
             let first = u32::try_from(mesh.positions.len()).unwrap_or(u32::MAX);
-            for facet in 0..sides {
+            for facet in 0..ring_vertices {
                 let angle = TAU * f64::from(facet) / f64::from(sides);
                 let normal = [
                     side[0] * angle.cos() + up[0] * angle.sin(),
@@ -264,17 +266,86 @@ impl Mesh {
                     point[2] + radius * normal[2],
                 ];
                 let vertex = mesh.push(position, normal);
-                mesh.tints[vertex as usize] = tint;
+                mesh.along[vertex as usize] = length + twist.unwrap_or(0.0) * radius * angle;
             }
             rings.push(first);
         }
         for pair in rings.windows(2) {
             for facet in 0..sides {
-                let next = (facet + 1) % sides;
+                let next = if twist.is_some() {
+                    facet + 1
+                } else {
+                    (facet + 1) % sides
+                };
                 let (a, b) = (pair[0] + facet, pair[0] + next);
                 let (c, d) = (pair[1] + facet, pair[1] + next);
                 mesh.triangles.push([a, c, b]);
                 mesh.triangles.push([b, c, d]);
+            }
+        }
+        mesh
+    }
+
+    /// A pulley's web with `holes` kidney-shaped openings, as the release's hollow pulley has:
+    /// a flat annulus between `hub` and `rim` radii, faces at `z = ±half_length`, with the cells
+    /// between radii `hole_inner` and `hole_outer` left open over `hole_angle` radians around
+    /// each of the `holes` evenly spaced directions. The hole walls are drawn too.
+    pub fn holed_web(
+        radii: [f64; 4],
+        half_length: f64,
+        holes: u32,
+        hole_angle: f64,
+        segments: u32,
+    ) -> Mesh {
+        let [hub, hole_inner, hole_outer, rim] = radii;
+        let mut mesh = Mesh::default();
+        let point = |r: f64, angle: f64, z: f64| [r * angle.cos(), r * angle.sin(), z];
+        let is_open = |angle: f64| {
+            let spacing = TAU / f64::from(holes.max(1));
+            let offset = (angle.rem_euclid(spacing) - spacing / 2.0).abs();
+            offset < hole_angle / 2.0
+        };
+        let bands = [
+            (hub, hole_inner),
+            (hole_inner, hole_outer),
+            (hole_outer, rim),
+        ];
+        for index in 0..segments {
+            let a0 = TAU * f64::from(index) / f64::from(segments);
+            let a1 = TAU * f64::from(index + 1) / f64::from(segments);
+            let open = holes > 0 && is_open(f64::midpoint(a0, a1));
+            for (band, (inner, outer)) in bands.iter().enumerate() {
+                if band == 1 && open {
+                    continue;
+                }
+                for (z, normal) in [
+                    (half_length, [0.0, 0.0, 1.0]),
+                    (-half_length, [0.0, 0.0, -1.0]),
+                ] {
+                    let v = [
+                        mesh.push(point(*inner, a0, z), normal),
+                        mesh.push(point(*outer, a0, z), normal),
+                        mesh.push(point(*outer, a1, z), normal),
+                        mesh.push(point(*inner, a1, z), normal),
+                    ];
+                    mesh.triangles.push([v[0], v[1], v[2]]);
+                    mesh.triangles.push([v[0], v[2], v[3]]);
+                }
+            }
+            if open {
+                // The walls of the opening at its inner and outer radius.
+                for (r, sign) in [(hole_inner, 1.0), (hole_outer, -1.0)] {
+                    let n0 = [sign * a0.cos(), sign * a0.sin(), 0.0];
+                    let n1 = [sign * a1.cos(), sign * a1.sin(), 0.0];
+                    let v = [
+                        mesh.push(point(r, a0, -half_length), n0),
+                        mesh.push(point(r, a1, -half_length), n1),
+                        mesh.push(point(r, a1, half_length), n1),
+                        mesh.push(point(r, a0, half_length), n0),
+                    ];
+                    mesh.triangles.push([v[0], v[1], v[2]]);
+                    mesh.triangles.push([v[0], v[2], v[3]]);
+                }
             }
         }
         mesh
@@ -356,9 +427,63 @@ mod tests {
     }
 
     #[test]
+    fn a_holed_web_is_open_in_its_holes_and_closed_on_its_spokes_and_rim() {
+        let radii = [0.5, 0.65, 1.2, 1.3];
+        let hole_angle = 1.4;
+        let web = Mesh::holed_web(radii, 0.1, 3, hole_angle, 72);
+        // The front face's triangles, in the plane.
+        let front: Vec<[[f64; 2]; 3]> = web
+            .triangles
+            .iter()
+            .filter(|t| t.iter().all(|&i| web.normals[i as usize][2] > 0.5))
+            .map(|t| t.map(|i| [web.positions[i as usize][0], web.positions[i as usize][1]]))
+            .collect();
+        let covered = |r: f64, angle: f64| {
+            let p = [r * angle.cos(), r * angle.sin()];
+            front.iter().any(|[a, b, c]| {
+                let side = |u: [f64; 2], v: [f64; 2]| {
+                    (v[0] - u[0]) * (p[1] - u[1]) - (v[1] - u[1]) * (p[0] - u[0])
+                };
+                let (d0, d1, d2) = (side(*a, *b), side(*b, *c), side(*c, *a));
+                (d0 >= 0.0 && d1 >= 0.0 && d2 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0 && d2 <= 0.0)
+            })
+        };
+        // Holes centre between the spokes (60°, 180°, 300°); spokes at 0°, 120°, 240°.
+        for hole in 0..3 {
+            let centre = TAU / 6.0 + f64::from(hole) * TAU / 3.0;
+            assert!(!covered(0.9, centre), "hole {hole} is open");
+            assert!(covered(0.9, centre - TAU / 6.0), "spoke {hole} is closed");
+            assert!(
+                covered(1.25, centre) && covered(0.57, centre),
+                "rim and hub rings"
+            );
+        }
+        // Area of the face: the annulus less three sectors (polygonal, 5° segments).
+        let area: f64 = front
+            .iter()
+            .map(|[a, b, c]| {
+                ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs() / 2.0
+            })
+            .sum();
+        let segment = TAU / 72.0;
+        let open_segments = (0..72)
+            .filter(|&i| {
+                let mid = (f64::from(i) + 0.5) * segment;
+                ((mid.rem_euclid(TAU / 3.0)) - TAU / 6.0).abs() < hole_angle / 2.0
+            })
+            .count();
+        let wedge = |r: f64| r * r * segment.sin() / 2.0;
+        #[expect(clippy::cast_precision_loss, reason = "a count below 72")]
+        let expected =
+            72.0 * (wedge(1.3) - wedge(0.5)) - open_segments as f64 * (wedge(1.2) - wedge(0.65));
+        assert!((area - expected).abs() < 1e-9, "{area} vs {expected}");
+        assert_eq!(open_segments, 3 * 16, "80° holes of 5° segments");
+    }
+
+    #[test]
     fn a_tube_follows_its_path_at_its_radius() {
         let path = [[0.0, 0.0, 0.0], [0.0, 5.0, 0.0], [3.0, 5.0, 0.0]];
-        let tube = Mesh::tube(&path, 0.2, 8, Some(1.0));
+        let tube = Mesh::tube(&path, 0.2, 8, None);
         assert_eq!(tube.positions.len(), 24);
         assert_eq!(tube.triangles.len(), 2 * 2 * 8);
         for (index, p) in tube.positions.iter().enumerate() {
@@ -367,7 +492,14 @@ mod tests {
             // Corners are mitred by the averaged tangent, so the ring there is the same circle.
             assert!((d - 0.2).abs() < 1e-12, "vertex {index} at {d}");
         }
-        assert!(tube.tints.contains(&0.55), "stripes alternate the tint");
+        // Plain tubes: one coordinate per ring, the arc length (0, 5, 8).
+        assert!((tube.along[8] - 5.0).abs() < 1e-12 && (tube.along[23] - 8.0).abs() < 1e-12);
+        // Patterned tubes close the seam with a ninth vertex whose coordinate has turned once.
+        let twisted = Mesh::tube(&path, 0.2, 8, Some(0.5));
+        assert_eq!(twisted.positions.len(), 27);
+        assert_eq!(twisted.triangles.len(), 2 * 2 * 8);
+        assert!((twisted.along[8] - 0.5 * 0.2 * TAU).abs() < 1e-12);
+        assert!(distance(twisted.positions[8], twisted.positions[0]) < 1e-12);
     }
 
     #[test]

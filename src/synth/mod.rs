@@ -24,6 +24,7 @@ pub mod mesh;
 pub use crate::perception::palette;
 pub mod raster;
 pub mod rope;
+pub mod shadow;
 pub mod video;
 
 use std::path::{Path, PathBuf};
@@ -40,7 +41,8 @@ use self::annotate::{LabelledObject, capture_record, segmentation_rgb};
 use self::appearance::{Appearance, FrameFinish, randomize};
 use self::background::{Wall, render_wall};
 use self::mesh::{Mesh, Pose};
-use self::raster::{Drawable, Light, render};
+use self::raster::{Drawable, Light, Stripes, render};
+use self::shadow::Shadow;
 use self::video::{FrameOutput, FrameSink};
 use crate::dataset::Scenario;
 use crate::perception::camera::CameraModel;
@@ -57,6 +59,8 @@ pub struct Item {
     pub color: [f64; 3],
     /// Instance id (0: drawn, not labelled).
     pub instance: u32,
+    /// Stripes painted along the mesh's pattern coordinate (ropes), if any.
+    pub stripes: Option<Stripes>,
 }
 
 /// A generated video before rendering: everything the folder holds but the pixels and the
@@ -75,6 +79,8 @@ pub struct SynthesizedVideo {
     pub light: Light,
     /// The background wall.
     pub wall: Wall,
+    /// The objects' drop shadow on the wall.
+    pub shadow: Shadow,
     /// Labelled objects (instance ids, names, labels).
     pub labels: Vec<LabelledObject>,
     /// `Id2ObjectNameDict`: every labelled name, including objects never drawn (`Solver`).
@@ -329,9 +335,11 @@ pub fn write_video(
                 pose: item.pose,
                 color: item.color,
                 instance: item.instance,
+                stripes: item.stripes,
             })
             .collect();
-        let frame = render(camera, &background, &video.light, &drawables);
+        let mut frame = render(camera, &background, &video.light, &drawables);
+        video.shadow.apply(&mut frame);
         let step = video.first_step + index;
         per_frame.insert(
             step.to_string(),

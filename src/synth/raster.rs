@@ -23,6 +23,42 @@ pub struct Drawable<'a> {
     pub color: [f64; 3],
     /// Instance id written to the id image (0: not labelled, drawn but left out of masks).
     pub instance: u32,
+    /// Stripes painted on the mesh's pattern coordinate ([`Mesh::along`]), if any.
+    pub stripes: Option<Stripes>,
+}
+
+/// Dark stripes across a patterned surface (the strands of a twisted rope), painted per pixel
+/// and box-filtered over the pixel's footprint, so that stripes finer than a pixel blend to
+/// their mean shade instead of aliasing into moiré.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stripes {
+    /// Length of one light and one dark band together, units of the pattern coordinate.
+    pub period: f64,
+    /// Share of the period that is dark, in `(0, 1)`.
+    pub dark_share: f64,
+    /// Brightness factor of the dark band, in `[0, 1]`.
+    pub dark: f64,
+    /// Softness of the band edges as a share of the period (strands are round, not cut).
+    pub softness: f64,
+}
+
+impl Stripes {
+    /// The brightness factor at pattern coordinate `along`, averaged over a window `footprint`
+    /// units wide (at least the edge softness).
+    fn tint(&self, along: f64, footprint: f64) -> f64 {
+        let period = self.period.max(1e-9);
+        let dark_length = self.dark_share.clamp(0.0, 1.0) * period;
+        // Dark length from 0 to `u` of the periodic profile (dark band first in each period).
+        let cumulative = |u: f64| {
+            let cycles = (u / period).floor();
+            cycles * dark_length + (u - cycles * period).min(dark_length)
+        };
+        let window = footprint.max(self.softness * period).max(1e-12);
+        let dark_fraction = ((cumulative(along + window / 2.0) - cumulative(along - window / 2.0))
+            / window)
+            .clamp(0.0, 1.0);
+        1.0 - (1.0 - self.dark.clamp(0.0, 1.0)) * dark_fraction
+    }
 }
 
 /// A directional light with ambient fill.
@@ -55,20 +91,24 @@ pub struct Frame {
     pub inverse_depth: Vec<f32>,
 }
 
-/// A vertex after transformation: screen position, `1/z`, and its colour divided by `z`.
+/// A vertex after transformation: screen position, `1/z`, its colour and pattern coordinate
+/// divided by `z`, and the pattern coordinate itself (for the footprint of a pixel).
 #[derive(Debug, Clone, Copy)]
 struct ScreenVertex {
     x: f64,
     y: f64,
     inverse_z: f64,
     color_over_z: [f64; 3],
+    along_over_z: f64,
+    along: f64,
 }
 
-/// A vertex in camera space with its shaded linear colour.
+/// A vertex in camera space with its shaded linear colour and pattern coordinate.
 #[derive(Debug, Clone, Copy)]
 struct CameraVertex {
     position: [f64; 3],
     color: [f64; 3],
+    along: f64,
 }
 
 /// Renders `drawables` over `background` (an RGB image of the camera's size).
@@ -106,7 +146,8 @@ fn draw(frame: &mut Frame, camera: &CameraModel, light: &Light, drawable: &Drawa
         .iter()
         .zip(&mesh.normals)
         .zip(&mesh.tints)
-        .map(|((position, normal), tint)| {
+        .enumerate()
+        .map(|(index, ((position, normal), tint))| {
             let world = drawable.pose.apply(*position);
             let mut n = drawable.pose.apply_direction(*normal);
             let to_eye = normalized(sub(camera.position, world));
@@ -126,6 +167,7 @@ fn draw(frame: &mut Frame, camera: &CameraModel, light: &Light, drawable: &Drawa
             CameraVertex {
                 position: camera.to_camera(world),
                 color,
+                along: mesh.along.get(index).copied().unwrap_or(0.0),
             }
         })
         .collect();
@@ -139,7 +181,7 @@ fn draw(frame: &mut Frame, camera: &CameraModel, light: &Light, drawable: &Drawa
             let [Some(p0), Some(p1), Some(p2)] = screen else {
                 continue;
             };
-            fill(frame, [p0, p1, p2], drawable.instance);
+            fill(frame, [p0, p1, p2], drawable.instance, drawable.stripes);
         }
     }
 }
@@ -152,6 +194,8 @@ fn to_screen(camera: &CameraModel, vertex: &CameraVertex) -> Option<ScreenVertex
         y: projected.y,
         inverse_z,
         color_over_z: vertex.color.map(|c| c * inverse_z),
+        along_over_z: vertex.along * inverse_z,
+        along: vertex.along,
     })
 }
 
@@ -183,6 +227,7 @@ fn clip_near(triangle: &[CameraVertex; 3]) -> Vec<[CameraVertex; 3]> {
                     lerp(current.color[1], next.color[1]),
                     lerp(current.color[2], next.color[2]),
                 ],
+                along: lerp(current.along, next.along),
             });
         }
     }
@@ -203,7 +248,7 @@ fn is_top_left(a: (f64, f64), b: (f64, f64)) -> bool {
     (dy == 0.0 && dx > 0.0) || dy < 0.0
 }
 
-fn fill(frame: &mut Frame, vertices: [ScreenVertex; 3], instance: u32) {
+fn fill(frame: &mut Frame, vertices: [ScreenVertex; 3], instance: u32, stripes: Option<Stripes>) {
     let mut v = vertices;
     let point = |s: &ScreenVertex| (s.x, s.y);
     let mut area = edge(point(&v[0]), point(&v[1]), point(&v[2]));
@@ -215,6 +260,16 @@ fn fill(frame: &mut Frame, vertices: [ScreenVertex; 3], instance: u32) {
         area = -area;
     }
     let (p0, p1, p2) = (point(&v[0]), point(&v[1]), point(&v[2]));
+    // How far the pattern coordinate moves across one pixel (the triangle's affine gradient):
+    // the window its stripes are averaged over.
+    let footprint = {
+        let (du1, du2) = (v[1].along - v[0].along, v[2].along - v[0].along);
+        let (dx1, dy1) = (p1.0 - p0.0, p1.1 - p0.1);
+        let (dx2, dy2) = (p2.0 - p0.0, p2.1 - p0.1);
+        let gradient_x = (du1 * dy2 - du2 * dy1) / area;
+        let gradient_y = (du2 * dx1 - du1 * dx2) / area;
+        gradient_x.abs() + gradient_y.abs()
+    };
     let width = f64::from(frame.width);
     let height = f64::from(frame.height);
     let min_x = p0.0.min(p1.0).min(p2.0).floor().max(0.0);
@@ -274,11 +329,16 @@ fn fill(frame: &mut Frame, vertices: [ScreenVertex; 3], instance: u32) {
             }
             frame.inverse_depth[index] = depth;
             frame.instance[index] = instance;
+            let tint = stripes.map_or(1.0, |stripes| {
+                let along_over_z =
+                    b0 * v[0].along_over_z + b1 * v[1].along_over_z + b2 * v[2].along_over_z;
+                stripes.tint(along_over_z / inverse_z, footprint)
+            });
             for channel in 0..3 {
                 let over_z = b0 * v[0].color_over_z[channel]
                     + b1 * v[1].color_over_z[channel]
                     + b2 * v[2].color_over_z[channel];
-                frame.rgb[index * 3 + channel] = linear_to_srgb_byte(over_z / inverse_z);
+                frame.rgb[index * 3 + channel] = linear_to_srgb_byte(tint * over_z / inverse_z);
             }
         }
     }
@@ -343,6 +403,7 @@ mod tests {
                 pose: Pose::at([0.0, 0.0, 0.0]),
                 color: [1.0, 0.0, 0.0],
                 instance: 7,
+                stripes: None,
             },
             // In front of the cube (towards the camera at −z).
             Drawable {
@@ -350,6 +411,7 @@ mod tests {
                 pose: Pose::at([0.0, 0.0, -2.0]),
                 color: [0.0, 0.0, 1.0],
                 instance: 9,
+                stripes: None,
             },
         ];
         let frame = render(&camera, &[], &light(), &drawables);
@@ -386,6 +448,7 @@ mod tests {
             ],
             normals: vec![[0.0, 0.0, -1.0]; 4],
             tints: vec![1.0; 4],
+            along: vec![0.0; 4],
             triangles: vec![[0, 1, 2], [0, 2, 3]],
         };
         let covered = |triangles: Vec<[u32; 3]>| {
@@ -396,6 +459,7 @@ mod tests {
                 pose: Pose::at([0.0; 3]),
                 color: [1.0; 3],
                 instance: 1,
+                stripes: None,
             }];
             render(&camera, &[], &light(), &drawables)
                 .instance
@@ -427,6 +491,7 @@ mod tests {
             pose: Pose::at([2.0, 0.0, -20.0]),
             color: [0.0, 1.0, 0.0],
             instance: 4,
+            stripes: None,
         }];
         let frame = render(&camera, &[], &light(), &drawables);
         let covered = frame.instance.iter().filter(|&&i| i == 4).count();
@@ -440,6 +505,50 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn stripes_are_dark_in_their_band_and_blend_to_their_mean_when_finer_than_a_pixel() {
+        let stripes = Stripes {
+            period: 1.0,
+            dark_share: 0.4,
+            dark: 0.3,
+            softness: 0.01,
+        };
+        // Middle of the dark band [0, 0.4) and of the light band [0.4, 1).
+        assert!((stripes.tint(0.2, 0.0) - 0.3).abs() < 1e-12);
+        assert!((stripes.tint(3.7, 0.0) - 1.0).abs() < 1e-12);
+        // Averaged over ten periods: 40% dark at 0.3, 60% light.
+        let mean = 1.0 - 0.7 * 0.4;
+        assert!((stripes.tint(0.123, 10.0) - mean).abs() < 1e-12);
+        // Drawn on a tube seen side-on: coarse stripes alternate along it, fine ones do not.
+        let camera = camera();
+        let path: Vec<[f64; 3]> = (0..=8).map(|i| [f64::from(i) - 4.0, 0.0, 0.0]).collect();
+        let tube = Mesh::tube(&path, 0.5, 12, Some(0.0));
+        let row = |period: f64| {
+            let drawables = [Drawable {
+                mesh: &tube,
+                pose: Pose::at([0.0; 3]),
+                color: [0.8; 3],
+                instance: 1,
+                stripes: Some(Stripes { period, ..stripes }),
+            }];
+            let frame = render(&camera, &[], &light(), &drawables);
+            (100..220)
+                .filter(|&x| frame.instance[120 * 320 + x] == 1)
+                .map(|x| frame.rgb[(120 * 320 + x) * 3])
+                .collect::<Vec<u8>>()
+        };
+        let spread = |values: &[u8]| {
+            let low = values.iter().min().copied().unwrap_or(0);
+            let high = values.iter().max().copied().unwrap_or(0);
+            high - low
+        };
+        let coarse = row(2.0);
+        let fine = row(0.002);
+        assert!(coarse.len() > 100 && fine.len() == coarse.len());
+        assert!(spread(&coarse) > 60, "coarse stripes alternate: {coarse:?}");
+        assert!(spread(&fine) < 4, "fine stripes blend: {fine:?}");
     }
 
     #[test]

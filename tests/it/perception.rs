@@ -469,11 +469,11 @@ fn a_resume_with_other_perception_models_is_refused() {
 }
 
 #[test]
-#[ignore = "held out: the detector trained on generated frames only finds neither rope nor the fixed point on the real video (domain gap, README: Perception)"]
 fn the_real_videos_mechanism_is_read_from_its_pixels() {
     if !need_runtime() || !crate::frames::need_ffmpeg() {
         return;
     }
+    // The real video is held out from every model (see no_real_frame_is_in_any_training_set).
     // Hand-checked against the annotation: 8 elements on 2 ropes; the purple rope runs from
     // the purple cube over the blue, gray and pink pulleys to the green cube, the green rope
     // from the pink sphere over the purple pulley to the brown fixed point.

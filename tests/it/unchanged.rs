@@ -127,7 +127,9 @@ fn engine_questions_for_several_seeds_are_unchanged() {
 
 #[test]
 fn generated_videos_questions_and_their_runs_are_unchanged() {
-    const GENERATED: &str = "2bb962990aaee0a4efa66de87b53678d77feb59d0cb5e21482393cd2d5b1f11d";
+    // Changed with the release-like hollow pulley (a holed web: other masks and boxes); the
+    // questions and both runs below kept their hashes.
+    const GENERATED: &str = "594a6434e405ed6bdf62c720eb94515095c697416f7829341992541b0f4cad63";
     const RUNS: [(&str, &str); 2] = [
         (
             "annotation",
@@ -209,12 +211,12 @@ fn demo_results_under_every_backend_pair_are_unchanged() {
         (
             "maskrcnn",
             "annotation",
-            "217f8099ba2bd49d18a105cde6c4d758a8a4f8cd77bb704ac36115d953b59da5",
+            "7b9b2cf28c30fdf3eec430cb60615e6da104971ed24bd27d6312f69eabb0aeb9",
         ),
         (
             "maskrcnn",
             "simulate",
-            "0f807f2d60cb4fda1d6dbe6db8670e16082175efc9b06c59ab28a797c2205124",
+            "5b63f224eb3e37f332655966744e7a7570f4525fc6aefe933015feeb55f13dd0",
         ),
     ];
     let out = tempfile::tempdir().unwrap();

@@ -7,7 +7,7 @@
 //! per frame, each rope's path (`topology::read_ropes`), and the candidate nodes.
 
 use super::perceived::{FirstPass, SAME_OBJECT_DISTANCE, lift};
-use super::topology::{Node, NodeKind, RopePath, distance, read_ropes};
+use super::topology::{Node, NodeKind, RopePath, Sample, distance, read_ropes};
 use crate::dataset::Camera;
 use crate::perception::camera::CameraModel;
 use crate::perception::color::{srgb_to_linear, wall_color};
@@ -104,7 +104,7 @@ impl FrameReader<'_> {
             .collect();
         let reach_px = self.reach_px;
         let model = self.model;
-        let mut covers = |rope: usize, point: [f64; 2]| -> Option<bool> {
+        let mut covers = |rope: usize, point: [f64; 2]| -> Option<Sample> {
             let evidence = evidence.get(rope)?.as_ref()?;
             let seen = model.project([point[0], point[1], 0.0])?;
             if seen.depth <= 0.0
@@ -126,6 +126,7 @@ impl FrameReader<'_> {
                 seen.y.floor() as i64,
             );
             let squared = reach_px * reach_px;
+            let mut sample = Sample::Missed;
             for dy in -reach..=reach {
                 for dx in -reach..=reach {
                     if (dx * dx + dy * dy) as f64 > squared {
@@ -135,13 +136,16 @@ impl FrameReader<'_> {
                     if x >= 0
                         && y >= 0
                         && let (Ok(x), Ok(y)) = (u32::try_from(x), u32::try_from(y))
-                        && evidence.contains(x, y)
                     {
-                        return Some(true);
+                        match evidence.at(x, y) {
+                            Sample::OnMask => return Some(Sample::OnMask),
+                            Sample::OnColour => sample = Sample::OnColour,
+                            Sample::Missed => {}
+                        }
                     }
                 }
             }
-            Some(false)
+            Some(sample)
         };
         // A rope not seen in this frame has no path here.
         let seen: Vec<bool> = ropes.iter().map(Option::is_some).collect();
@@ -240,17 +244,22 @@ impl RopeEvidence {
         evidence
     }
 
-    fn contains(&self, x: u32, y: u32) -> bool {
+    /// What the rope's pixels show at pixel `(x, y)`.
+    fn at(&self, x: u32, y: u32) -> Sample {
         if self.mask.contains(x, y) {
-            return true;
+            return Sample::OnMask;
         }
         if x < self.left
             || y < self.top
             || x >= self.left + self.width
             || y >= self.top + self.height
         {
-            return false;
+            return Sample::Missed;
         }
-        self.bits[((y - self.top) * self.width + (x - self.left)) as usize]
+        if self.bits[((y - self.top) * self.width + (x - self.left)) as usize] {
+            Sample::OnColour
+        } else {
+            Sample::Missed
+        }
     }
 }

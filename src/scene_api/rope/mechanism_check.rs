@@ -20,6 +20,7 @@ use crate::dataset::{FourDData, VideoFolder};
 use crate::perception::assignment::assign;
 use crate::perception::classes::{Class, ClassTable};
 use crate::perception::rope::PERCEPTION;
+use crate::physics::rope::Turn;
 use crate::scene_api::perceiver::Perceiver;
 use crate::scene_api::{ApiError, PerceptionModels};
 
@@ -44,6 +45,24 @@ pub struct MechanismCheck {
     pub ropes_read_with_turns: usize,
     /// Perceived ropes that match no annotated one.
     pub extra_ropes: usize,
+    /// What was not read right, for diagnosis: annotated elements not found (`name (class)`)
+    /// and each rope not read with its turns, beside the perceived path closest to it (empty in
+    /// the summed total).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub missed_elements: Vec<String>,
+    /// Ropes not read right: the annotated path and the closest perceived one.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub missed_ropes: Vec<MissedRope>,
+}
+
+/// An annotated rope not read right and the perceived rope most like it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MissedRope {
+    /// The annotated path: element names in order, each with its turn (`cw`, `ccw` or `-`).
+    pub annotated: Vec<String>,
+    /// The perceived path sharing most elements with it, in the annotated names where an
+    /// element was matched (`?name` where not), with turns; empty when no rope shares any.
+    pub closest_read: Vec<String>,
 }
 
 /// The mechanism read from pixels against the annotated one, per video and summed, as
@@ -168,7 +187,8 @@ pub fn check_rope_mechanism(
         Some(truth_elements[t].0.clone())
     };
     let mut used = vec![false; seen_paths.len()];
-    for (_, names, turns) in &truth_paths {
+    let mut read_right = vec![false; truth_paths.len()];
+    for (truth_index, (_, names, turns)) in truth_paths.iter().enumerate() {
         for (index, (_, seen_names, seen_turns)) in seen_paths.iter().enumerate() {
             if used[index] {
                 continue;
@@ -195,15 +215,74 @@ pub fn check_rope_mechanism(
                 seen_turns
                     .iter()
                     .rev()
-                    .map(|t| t.map(crate::physics::rope::Turn::reversed))
+                    .map(|t| t.map(Turn::reversed))
                     .eq(turns.iter().copied())
             };
             if same_turns {
                 check.ropes_read_with_turns += 1;
+                read_right[truth_index] = true;
             }
             break;
         }
     }
     check.extra_ropes = used.iter().filter(|u| !**u).count();
+    check.missed_elements = truth_elements
+        .iter()
+        .zip(&matched)
+        .filter(|(_, m)| m.is_none())
+        .map(|((name, class, _), _)| format!("{name} ({})", classes.name(*class)))
+        .collect();
+    check.missed_ropes = missed_ropes(&truth_paths, &read_right, &seen_paths, &truth_name);
     Ok(check)
+}
+
+/// A path as `name turn` words (`cw`, `ccw`, `-` at ends).
+fn with_turns(names: &[String], turns: &[Option<Turn>]) -> Vec<String> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(index, name)| {
+            let turn = match turns.get(index).copied().flatten() {
+                Some(Turn::CounterClockwise) => "ccw",
+                Some(Turn::Clockwise) => "cw",
+                None => "-",
+            };
+            format!("{name} {turn}")
+        })
+        .collect()
+}
+
+/// Each annotated rope not read right, beside the perceived path sharing most elements with it
+/// (its names mapped to the annotated ones through `truth_name`).
+fn missed_ropes(
+    truth_paths: &[RopeLayoutPath],
+    read_right: &[bool],
+    seen_paths: &[RopeLayoutPath],
+    truth_name: &dyn Fn(&str) -> Option<String>,
+) -> Vec<MissedRope> {
+    let mut missed = Vec::new();
+    for (truth_index, (_, names, turns)) in truth_paths.iter().enumerate() {
+        if read_right.get(truth_index).copied().unwrap_or(false) {
+            continue;
+        }
+        let closest = seen_paths
+            .iter()
+            .map(|(_, seen_names, seen_turns)| {
+                let mapped: Vec<String> = seen_names
+                    .iter()
+                    .map(|n| truth_name(n).unwrap_or_else(|| format!("?{n}")))
+                    .collect();
+                let shared = mapped.iter().filter(|n| names.contains(n)).count();
+                (shared, mapped, seen_turns)
+            })
+            .filter(|(shared, _, _)| *shared > 0)
+            .max_by_key(|(shared, _, _)| *shared);
+        missed.push(MissedRope {
+            annotated: with_turns(names, turns),
+            closest_read: closest
+                .map(|(_, mapped, seen_turns)| with_turns(&mapped, seen_turns))
+                .unwrap_or_default(),
+        });
+    }
+    missed
 }

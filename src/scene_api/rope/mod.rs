@@ -24,7 +24,9 @@ pub mod simulation;
 mod topology;
 
 pub use inference_bench::inference_report;
-pub use mechanism_check::{MATCH_RADIUS, MechanismCheck, check_rope_mechanism, mechanism_report};
+pub use mechanism_check::{
+    MATCH_RADIUS, MechanismCheck, MissedRope, check_rope_mechanism, mechanism_report,
+};
 
 use self::perceived::perceive_mechanism;
 use self::simulation::{RopeMassInference, RopeOutcome, Run, load_multiplier, simulate_rope};

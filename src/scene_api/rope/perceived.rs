@@ -747,6 +747,7 @@ mod tests {
                 turns: turns.clone(),
                 covered: 0,
                 missed: 0,
+                on_mask: 0,
             }));
         }
         let camera = annotation.camera.clone().unwrap();
@@ -856,12 +857,14 @@ mod tests {
             ],
             covered: 0,
             missed: 0,
+            on_mask: 0,
         };
         let side = RopePath {
             nodes: vec![4, 1],
             turns: vec![None, None],
             covered: 0,
             missed: 0,
+            on_mask: 0,
         };
         let camera = sample().0.camera.unwrap();
         let perceived = assemble(

@@ -111,6 +111,29 @@ pub(crate) struct RopePath {
     pub covered: usize,
     /// Samples along the segments that they do not cover.
     pub missed: usize,
+    /// Of the covered samples, those on the detection's own mask (not only on pixels of the
+    /// rope's colour elsewhere in the frame).
+    pub on_mask: usize,
+}
+
+/// What a rope's pixels say about one scene point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Sample {
+    /// The detection's mask is there.
+    OnMask,
+    /// Only pixels of the rope's colour are there (another rope of that colour, or a stretch of
+    /// this one the mask missed).
+    OnColour,
+    /// Nothing of the rope is there.
+    Missed,
+}
+
+/// Samples of one segment hypothesis: covered (on mask or colour), missed, and on the mask.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Support {
+    covered: usize,
+    missed: usize,
+    on_mask: usize,
 }
 
 impl RopePath {
@@ -300,8 +323,8 @@ fn segment_support(
     nodes: &[Node],
     [(from, from_wrapped), (to, to_wrapped)]: [(usize, bool); 2],
     (start, end): ([f64; 2], [f64; 2]),
-    covers: &mut dyn FnMut([f64; 2]) -> Option<bool>,
-) -> Option<(usize, usize)> {
+    covers: &mut dyn FnMut([f64; 2]) -> Option<Sample>,
+) -> Option<Support> {
     // A rope cannot pass through a pulley, and one it grazes turns it: such a segment must
     // wrap that pulley instead.
     let grazes = nodes.iter().enumerate().any(|(index, node)| {
@@ -317,7 +340,7 @@ fn segment_support(
     }
     let length = distance(start, end);
     let count = pieces(length / SAMPLE_SPACING);
-    let (mut covered, mut missed) = (0, 0);
+    let (mut covered, mut missed, mut on_mask) = (0, 0, 0);
     for step in 0..=count {
         let point = lerp(start, end, (step as f64 + 0.5) / (count as f64 + 1.0));
         // Samples where a node's body hides the rope tell nothing. A rope tied to an end (a
@@ -338,28 +361,38 @@ fn segment_support(
             continue;
         }
         match covers(point) {
-            Some(true) => covered += 1,
-            Some(false) => missed += 1,
+            Some(Sample::OnMask) => {
+                covered += 1;
+                on_mask += 1;
+            }
+            Some(Sample::OnColour) => covered += 1,
+            Some(Sample::Missed) => missed += 1,
             None => {}
         }
     }
     let observed = covered + missed;
     if observed < MIN_SAMPLES {
         // Too short to see: a load hanging right under its pulley. Accept only short segments.
-        return (length < 3.0).then_some((0, 0));
+        return (length < 3.0).then_some(Support::default());
     }
-    (covered as f64 >= MIN_SEGMENT_COVERAGE * observed as f64).then_some((covered, missed))
+    (covered as f64 >= MIN_SEGMENT_COVERAGE * observed as f64).then_some(Support {
+        covered,
+        missed,
+        on_mask,
+    })
 }
 
 /// Reads each rope's path: for every rope whose `seen` entry is true, the chain of supported
-/// segments with the most covered samples (ties: fewer missed, then fewer nodes, then the lower
-/// node indices), among chains that start and end at nodes a rope can end at and wrap only
+/// segments with the most samples on the rope's own mask, then the most covered samples (ties:
+/// fewer missed, then fewer nodes, then the lower node indices), among chains that start and end at nodes a rope can end at and wrap only
 /// pulleys in between; a rope not seen has no path (and costs no search). `covers(rope, point)`
-/// says whether rope `rope`'s pixels cover a scene point.
+/// says what rope `rope`'s pixels show at a scene point. The mask comes first because pixels of
+/// the rope's colour elsewhere may be another rope's: a short white rope under a pulley would
+/// otherwise be read along a long rope whose light strands look like it.
 pub(crate) fn read_ropes(
     nodes: &[Node],
     seen: &[bool],
-    covers: &mut dyn FnMut(usize, [f64; 2]) -> Option<bool>,
+    covers: &mut dyn FnMut(usize, [f64; 2]) -> Option<Sample>,
 ) -> Vec<Option<RopePath>> {
     seen.iter()
         .enumerate()
@@ -379,7 +412,10 @@ fn turn_options(kind: NodeKind) -> &'static [Option<Turn>] {
     }
 }
 
-fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -> Option<RopePath> {
+fn read_rope(
+    nodes: &[Node],
+    covers: &mut dyn FnMut([f64; 2]) -> Option<Sample>,
+) -> Option<RopePath> {
     // Support of every directed segment hypothesis, computed once: (from, turn at from, to,
     // turn at to) → (covered, missed). Ends are passed with no turn.
     type Key = (usize, u8, usize, u8);
@@ -388,7 +424,7 @@ fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -
         Some(Turn::CounterClockwise) => 1,
         Some(Turn::Clockwise) => 2,
     };
-    let mut support: std::collections::BTreeMap<Key, Option<(usize, usize)>> =
+    let mut support: std::collections::BTreeMap<Key, Option<Support>> =
         std::collections::BTreeMap::new();
     let mut lookup = |from: usize, turn_from: Option<Turn>, to: usize, turn_to: Option<Turn>| {
         *support
@@ -409,6 +445,7 @@ fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -
             turns: vec![None],
             covered: 0,
             missed: 0,
+            on_mask: 0,
         };
         extend(nodes, &mut path, &mut lookup, &mut best);
     }
@@ -418,8 +455,7 @@ fn read_rope(nodes: &[Node], covers: &mut dyn FnMut([f64; 2]) -> Option<bool>) -
 /// Depth-first search from the path's last node; records every complete chain that beats `best`.
 /// The support of a directed segment hypothesis (from, turn, to, turn): samples covered and
 /// missed, or `None` when rejected.
-type Lookup<'a> =
-    dyn FnMut(usize, Option<Turn>, usize, Option<Turn>) -> Option<(usize, usize)> + 'a;
+type Lookup<'a> = dyn FnMut(usize, Option<Turn>, usize, Option<Turn>) -> Option<Support> + 'a;
 
 fn extend(
     nodes: &[Node],
@@ -439,13 +475,14 @@ fn extend(
         }
         // Ending at `next`.
         if nodes[next].kind.can_end()
-            && let Some((covered, missed)) = lookup(last, last_turn, next, None)
+            && let Some(support) = lookup(last, last_turn, next, None)
         {
             let mut done = path.clone();
             done.nodes.push(next);
             done.turns.push(None);
-            done.covered += covered;
-            done.missed += missed;
+            done.covered += support.covered;
+            done.missed += support.missed;
+            done.on_mask += support.on_mask;
             // A chain and its reverse are the same rope; keep the one that starts lower.
             if done.nodes.first() < done.nodes.last() && better(&done, best.as_ref()) {
                 *best = Some(done);
@@ -456,16 +493,18 @@ fn extend(
             if turn.is_none() {
                 continue;
             }
-            if let Some((covered, missed)) = lookup(last, last_turn, next, turn) {
+            if let Some(support) = lookup(last, last_turn, next, turn) {
                 path.nodes.push(next);
                 path.turns.push(turn);
-                path.covered += covered;
-                path.missed += missed;
+                path.covered += support.covered;
+                path.missed += support.missed;
+                path.on_mask += support.on_mask;
                 extend(nodes, path, lookup, best);
                 path.nodes.pop();
                 path.turns.pop();
-                path.covered -= covered;
-                path.missed -= missed;
+                path.covered -= support.covered;
+                path.missed -= support.missed;
+                path.on_mask -= support.on_mask;
             }
         }
     }
@@ -477,6 +516,7 @@ fn better(candidate: &RopePath, best: Option<&RopePath>) -> bool {
     };
     let key = |p: &RopePath| {
         (
+            std::cmp::Reverse(p.on_mask),
             std::cmp::Reverse(p.covered),
             p.missed,
             p.nodes.len(),
@@ -562,10 +602,17 @@ mod tests {
             turns: vec![None, Some(Turn::Clockwise), Some(Turn::Clockwise), None],
             covered: 0,
             missed: 0,
+            on_mask: 0,
         };
         let drawn = truth.polyline(&nodes, 0.05);
         let mut covers = |rope: usize, point: [f64; 2]| {
-            Some(rope == 0 && drawn.iter().any(|p| distance(*p, point) < 0.3))
+            Some(
+                if rope == 0 && drawn.iter().any(|p| distance(*p, point) < 0.3) {
+                    Sample::OnMask
+                } else {
+                    Sample::Missed
+                },
+            )
         };
         let read = read_ropes(&nodes, &[true, true], &mut covers);
         let path = read[0].as_ref().unwrap();
@@ -573,6 +620,47 @@ mod tests {
         assert_eq!(path.turns, truth.turns);
         assert!(path.missed == 0 && path.covered > 20, "{path:?}");
         assert!(read[1].is_none(), "a rope with no pixels has no path");
+    }
+
+    #[test]
+    fn a_rope_is_read_where_its_mask_is_before_where_only_its_colour_is() {
+        // A long rope over a pulley, and a short one from a movable pulley's hook to its load:
+        // the short rope's colour also matches the long rope's pixels (light strands), so by
+        // covered samples alone it would be read along the long one.
+        let r = world::wrap_radius(false);
+        let nodes = vec![
+            node(NodeKind::Load, -r, -6.0),
+            pulley(0.0, 0.0),
+            node(NodeKind::Load, r, -6.0),
+            node(NodeKind::MovablePulley { solid: true }, 9.0, 0.0),
+            node(NodeKind::Load, 9.0, -4.0),
+        ];
+        let path = |nodes: Vec<usize>, turns: Vec<Option<Turn>>| RopePath {
+            nodes,
+            turns,
+            covered: 0,
+            missed: 0,
+            on_mask: 0,
+        };
+        let long = path(vec![0, 1, 2], vec![None, Some(Turn::Clockwise), None]);
+        let short = path(vec![3, 4], vec![None, None]);
+        let long_pixels = long.polyline(&nodes, 0.05);
+        let short_pixels = short.polyline(&nodes, 0.05);
+        let near =
+            |pixels: &[[f64; 2]], point: [f64; 2]| pixels.iter().any(|p| distance(*p, point) < 0.3);
+        let mut covers = |_rope: usize, point: [f64; 2]| {
+            Some(if near(&short_pixels, point) {
+                Sample::OnMask
+            } else if near(&long_pixels, point) {
+                Sample::OnColour
+            } else {
+                Sample::Missed
+            })
+        };
+        let read = read_ropes(&nodes, &[true], &mut covers);
+        let read = read[0].as_ref().unwrap();
+        assert_eq!(read.nodes, vec![3, 4], "{read:?}");
+        assert!(read.on_mask >= 3, "{read:?}");
     }
 
     #[test]
@@ -588,6 +676,7 @@ mod tests {
             turns: vec![None, Some(Turn::Clockwise), None],
             covered: 0,
             missed: 0,
+            on_mask: 0,
         };
         let points = over_the_top.polyline(&nodes, 0.1);
         let highest = points.iter().map(|p| p[1]).fold(f64::MIN, f64::max);

@@ -20,6 +20,7 @@ use self::scene::{RopeScene, frame_camera, sample_camera};
 use self::simulate::{Change, RunResult, TruthModel, build_truth, run};
 use super::background::Wall;
 use super::raster::Light;
+use super::shadow::RELEASE_SHADOW;
 use super::{ScenarioSynth, SynthError, SynthesizedVideo};
 use crate::dataset::Scenario;
 use crate::dataset::rope::world;
@@ -146,7 +147,9 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<Trial, String>
             variant: room,
             frequency: 1.3,
             contrast: 0.3,
+            grain: [3.0, 0.6],
         },
+        shadow: RELEASE_SHADOW,
         labels: scene.labels(),
         id_to_name: scene.id_to_name(),
         first_step: 1,

@@ -22,6 +22,7 @@ use crate::synth::Item;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
+use crate::synth::raster::Stripes;
 
 /// The release camera's look-at point before re-framing.
 const LOOK_AT: [f64; 3] = [-8.9, 0.0, 0.0];
@@ -29,8 +30,16 @@ const LOOK_AT: [f64; 3] = [-8.9, 0.0, 0.0];
 const FIELD_PADDING: f64 = 6.0;
 /// Sides of rope tubes when rendered.
 const ROPE_SIDES: u32 = 8;
-/// Length of one rope stripe, units.
-const ROPE_STRIPE: f64 = 0.3;
+/// The release's twisted rope: dark grooves between strands about every 0.2 units, winding
+/// round the rope.
+const ROPE_STRIPES: Stripes = Stripes {
+    period: 0.2,
+    dark_share: 0.45,
+    dark: 0.3,
+    softness: 0.3,
+};
+/// How far the strands wind: pattern units per unit of arc round the rope.
+const ROPE_TWIST: f64 = 0.6;
 /// Spacing of tracked rope particles, units.
 const PARTICLE_SPACING: f64 = 0.5;
 /// Spacing of the voxels written to `rigidbodyVoxelPosition`, units (the release used 0.07
@@ -175,24 +184,18 @@ impl Prefabs {
     fn new() -> Prefabs {
         let solid_half = 0.289;
         let hollow_half = 0.174;
-        let mut hollow = Mesh::ring(
-            world::HOLLOW_PULLEY_RADIUS - 0.42,
-            world::HOLLOW_PULLEY_RADIUS,
-            hollow_half,
-            48,
-        );
-        // Hub and three spokes inside the ring.
+        // The release's hollow pulley: a rim, a thinner web with three kidney-shaped holes, and
+        // a hub.
+        let rim = world::HOLLOW_PULLEY_RADIUS;
+        let mut hollow = Mesh::ring(rim - 0.3, rim, hollow_half, 48);
+        hollow.merge(&Mesh::holed_web(
+            [0.5, 0.65, rim - 0.4, rim - 0.3],
+            hollow_half * 0.6,
+            3,
+            0.7 * 2.0 * PI / 3.0,
+            72,
+        ));
         hollow.merge(&Mesh::cylinder(0.55, hollow_half, 24));
-        for spoke in 0..3 {
-            let angle = f64::from(spoke) * 2.0 * PI / 3.0;
-            let mut bar = Mesh::cuboid([world::HOLLOW_PULLEY_RADIUS - 0.3, 0.3, 2.0 * hollow_half]);
-            bar = bar.transformed(&Pose::at([
-                (world::HOLLOW_PULLEY_RADIUS - 0.3) / 2.0,
-                0.0,
-                0.0,
-            ]));
-            hollow.merge(&bar.transformed(&Pose::turned_about_z([0.0; 3], angle)));
-        }
         let marker = |radius: f64, half: f64| {
             Arc::new(
                 Mesh::cuboid([0.28, 0.9, 2.0 * half + 0.02]).transformed(&Pose::at([
@@ -392,6 +395,7 @@ impl RopeScene {
                 pose,
                 color: self.color(&spec.name),
                 instance,
+                stripes: None,
             });
             items.push(Item {
                 mesh: if solid {
@@ -402,6 +406,7 @@ impl RopeScene {
                 pose,
                 color: [0.92, 0.92, 0.9],
                 instance,
+                stripes: None,
             });
             if matches!(spec.mount, Mount::Fixed(_)) {
                 items.push(Item {
@@ -409,6 +414,7 @@ impl RopeScene {
                     pose: Pose::at([centre[0], centre[1], 0.0]),
                     color: [0.55, 0.55, 0.55],
                     instance: 0,
+                    stripes: None,
                 });
             }
         }
@@ -424,6 +430,7 @@ impl RopeScene {
                     pose: Pose::at([spec.position[0], frame.state.y[body], 0.0]),
                     color: self.color(&spec.name),
                     instance: self.instance(&spec.name),
+                    stripes: None,
                 });
             }
         }
@@ -433,6 +440,7 @@ impl RopeScene {
                 pose: Pose::at([centre[0], centre[1], 0.0]),
                 color: self.color(name),
                 instance: self.instance(name),
+                stripes: None,
             });
         }
         for (rope, path) in model.ropes.iter().zip(Self::rope_paths(model, frame)) {
@@ -441,11 +449,12 @@ impl RopeScene {
                     &path,
                     world::ROPE_RADIUS,
                     ROPE_SIDES,
-                    Some(ROPE_STRIPE),
+                    Some(ROPE_TWIST),
                 )),
                 pose: Pose::at([0.0; 3]),
                 color: self.color(rope),
                 instance: self.instance(rope),
+                stripes: Some(ROPE_STRIPES),
             });
         }
         items
