@@ -80,7 +80,9 @@ def prep_generated(root, out, every, zoom=False):
             if i == vid % every or i == len(files) // 2:
                 assert check_boxes(full, boxes, key, vd) == 0, f"frame {i} != key {key} in {vd}"
             f = rgb.shape[0] // IN_H
-            if zoom and f == 2:
+            if zoom and f != 2:
+                raise SystemExit(f"{vd}: --zoom needs 960x540 frames (2x the cache size), got {rgb.shape[1]}x{rgb.shape[0]}")
+            if zoom:
                 y0, x0 = zoom_window(full, key, vid)
                 imgs.append(np.ascontiguousarray(rgb[y0:y0 + IN_H, x0:x0 + IN_W]))
                 insts.append(np.ascontiguousarray(full[y0:y0 + IN_H, x0:x0 + IN_W]).astype(np.uint8))

@@ -49,14 +49,11 @@ class Pool:
         return self.gen[rng.randrange(len(self.gen))]
 
 
-SCALE = (0.8, 1.25)
-
-
-def rescale(img, m, rng):
-    """Scale by U(SCALE) about a random point and crop/pad back to the input size (padding
+def rescale(img, m, rng, scale):
+    """Scale by U(*scale) about a random point and crop/pad back to the input size (padding
     with the image's median colour, the wall)."""
     h, w = m.shape
-    s = rng.uniform(*SCALE)
+    s = rng.uniform(*scale)
     nh, nw = max(1, round(h * s)), max(1, round(w * s))
     ys = np.clip(((np.arange(nh) + 0.5) / s - 0.5).round().astype(int), 0, h - 1)
     xs = np.clip(((np.arange(nw) + 0.5) / s - 0.5).round().astype(int), 0, w - 1)
@@ -76,9 +73,6 @@ def rescale(img, m, rng):
     out[dy0:dy0 + ch, dx0:dx0 + cw] = big[sy0:sy0 + ch, sx0:sx0 + cw]
     om[dy0:dy0 + ch, dx0:dx0 + cw] = bm[sy0:sy0 + ch, sx0:sx0 + cw]
     return out, om
-
-
-TEXTURE_P = 0.0
 
 
 def wall_texture(img, m, rng):
@@ -106,16 +100,18 @@ def wall_texture(img, m, rng):
     return img
 
 
-def make_sample(item, rng):
+def make_sample(item, rng, scale=(0.8, 1.25), texture=0.0):
+    """One augmented training sample: rescale by U(*scale) (p 0.7), flip, wall texture (p texture),
+    brightness, contrast and saturation."""
     imgs, inst, cls, i = item
     img = imgs[i].astype(np.float32) / 255.0
     m = inst[i]
     if rng.random() < 0.7:
-        img, m = rescale(img, m, rng)
+        img, m = rescale(img, m, rng, scale)
     if rng.random() < 0.5:  # horizontal flip
         img = img[:, ::-1]
         m = m[:, ::-1]
-    if rng.random() < TEXTURE_P:
+    if rng.random() < texture:
         img = wall_texture(img, m, rng)
     classes = {iid: int(cls[iid]) for iid in np.unique(m) if iid != 0}
     boxes, labels, masks = targets_from_map(m, classes)
@@ -150,9 +146,6 @@ def main():
                     "training files are carried into this run's metadata")
     a = ap.parse_args()
 
-    global SCALE, TEXTURE_P
-    SCALE = tuple(a.scale)
-    TEXTURE_P = a.texture
     torch.set_num_threads(a.threads)
     random.seed(a.seed)
     np.random.seed(a.seed)
@@ -207,7 +200,7 @@ def main():
             g["lr"] = lr
         if it % 100 == 0 and it:
             pool.rescan()
-        batch = [make_sample(pool.sample(rng), rng) for _ in range(a.batch)]
+        batch = [make_sample(pool.sample(rng), rng, tuple(a.scale), a.texture) for _ in range(a.batch)]
         losses = model([b[0] for b in batch], [b[1] for b in batch])
         loss = sum(losses.values())
         if not torch.isfinite(loss):

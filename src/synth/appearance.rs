@@ -4,11 +4,12 @@
 //! they were not drawn with.
 //!
 //! Input: a [`SynthesizedVideo`] and a seed. [`randomize`] redraws the video's light (direction,
-//! ambient, diffuse, highlight), its wall (colour, texture scale and contrast) and jitters each
-//! labelled object's colour by a few percent (the same in every frame, small enough that its
-//! palette name stays right), redraws painted stripes (period, depth) and the drop shadow
-//! (offset, penumbra, strength); it returns a [`FrameFinish`], which [`FrameFinish::apply`] uses
-//! after rendering each frame: white balance, gamma, a light blur and Gaussian sensor noise.
+//! ambient, diffuse, highlight), its wall (colour, texture scale, grain and contrast), jitters
+//! each labelled object's colour by a few percent (the same in every frame, small enough that
+//! its palette name stays right), redraws painted stripes (period, dark share, depth, softness)
+//! and the drop shadow (offset, penumbra, strength); it returns a [`FrameFinish`], which
+//! [`FrameFinish::apply`] uses after rendering each frame: white balance, gamma, a light blur
+//! and Gaussian sensor noise.
 //! Geometry, simulation, annotations and masks are untouched, so a randomised video answers its
 //! questions exactly as the release-looking one of the same seed. Every draw comes from a seeded
 //! ChaCha stream: the same seed gives the same bytes.

@@ -15,8 +15,6 @@ pub struct Mesh {
     pub positions: Vec<[f64; 3]>,
     /// Unit normals, one per vertex.
     pub normals: Vec<[f64; 3]>,
-    /// Brightness factor per vertex (1 plain; below 1 for painted marks).
-    pub tints: Vec<f64>,
     /// Pattern coordinate per vertex, units (arc length along a tube plus its twist; 0 on
     /// meshes without a pattern). The rasterizer paints stripes on it per pixel
     /// ([`super::raster::Stripes`]), so stripes stay sharp however far apart the vertices are.
@@ -75,9 +73,40 @@ impl Mesh {
     fn push(&mut self, position: [f64; 3], normal: [f64; 3]) -> u32 {
         self.positions.push(position);
         self.normals.push(normal);
-        self.tints.push(1.0);
         self.along.push(0.0);
         u32::try_from(self.positions.len() - 1).unwrap_or(u32::MAX)
+    }
+
+    /// Appends a quad (`corners` in order round it, each with its normal) as two triangles.
+    fn push_quad(&mut self, corners: [([f64; 3], [f64; 3]); 4]) {
+        let v = corners.map(|(position, normal)| self.push(position, normal));
+        self.triangles.push([v[0], v[1], v[2]]);
+        self.triangles.push([v[0], v[2], v[3]]);
+    }
+
+    /// Appends the piece of a cylinder wall of radius `r` about `z` between angles `a0` and
+    /// `a1`, from `z = −half_length` to `half_length`, with normals pointing away from the axis
+    /// (`outward`) or towards it; the triangles wind counter-clockwise seen from the side the
+    /// normals point to.
+    fn push_wall(&mut self, r: f64, [a0, a1]: [f64; 2], half_length: f64, outward: bool) {
+        let sign = if outward { 1.0 } else { -1.0 };
+        let point = |angle: f64, z: f64| [r * angle.cos(), r * angle.sin(), z];
+        let n0 = [sign * a0.cos(), sign * a0.sin(), 0.0];
+        let n1 = [sign * a1.cos(), sign * a1.sin(), 0.0];
+        let corners = [
+            (point(a0, -half_length), n0),
+            (point(a1, -half_length), n1),
+            (point(a1, half_length), n1),
+            (point(a0, half_length), n0),
+        ];
+        let v = corners.map(|(position, normal)| self.push(position, normal));
+        if outward {
+            self.triangles.push([v[0], v[1], v[2]]);
+            self.triangles.push([v[0], v[2], v[3]]);
+        } else {
+            self.triangles.push([v[0], v[2], v[1]]);
+            self.triangles.push([v[0], v[3], v[2]]);
+        }
     }
 
     /// Appends `other` (its indices shifted).
@@ -85,7 +114,6 @@ impl Mesh {
         let offset = u32::try_from(self.positions.len()).unwrap_or(u32::MAX);
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
-        self.tints.extend_from_slice(&other.tints);
         self.along.extend_from_slice(&other.along);
         self.triangles.extend(
             other
@@ -105,7 +133,6 @@ impl Mesh {
                 .iter()
                 .map(|n| pose.apply_direction(*n))
                 .collect(),
-            tints: self.tints.clone(),
             along: self.along.clone(),
             triangles: self.triangles.clone(),
         }
@@ -179,28 +206,9 @@ impl Mesh {
         for index in 0..segments {
             let a0 = TAU * f64::from(index) / f64::from(segments);
             let a1 = TAU * f64::from(index + 1) / f64::from(segments);
-            // Outer wall.
-            let n0 = [a0.cos(), a0.sin(), 0.0];
-            let n1 = [a1.cos(), a1.sin(), 0.0];
-            let v = [
-                mesh.push(point(outer, a0, -half_length), n0),
-                mesh.push(point(outer, a1, -half_length), n1),
-                mesh.push(point(outer, a1, half_length), n1),
-                mesh.push(point(outer, a0, half_length), n0),
-            ];
-            mesh.triangles.push([v[0], v[1], v[2]]);
-            mesh.triangles.push([v[0], v[2], v[3]]);
+            mesh.push_wall(outer, [a0, a1], half_length, true);
             if inner > 0.0 {
-                let m0 = n0.map(|c| -c);
-                let m1 = n1.map(|c| -c);
-                let w = [
-                    mesh.push(point(inner, a0, -half_length), m0),
-                    mesh.push(point(inner, a1, -half_length), m1),
-                    mesh.push(point(inner, a1, half_length), m1),
-                    mesh.push(point(inner, a0, half_length), m0),
-                ];
-                mesh.triangles.push([w[0], w[2], w[1]]);
-                mesh.triangles.push([w[0], w[3], w[2]]);
+                mesh.push_wall(inner, [a0, a1], half_length, false);
             }
             // Both faces.
             for (z, normal) in [
@@ -322,30 +330,18 @@ impl Mesh {
                     (half_length, [0.0, 0.0, 1.0]),
                     (-half_length, [0.0, 0.0, -1.0]),
                 ] {
-                    let v = [
-                        mesh.push(point(*inner, a0, z), normal),
-                        mesh.push(point(*outer, a0, z), normal),
-                        mesh.push(point(*outer, a1, z), normal),
-                        mesh.push(point(*inner, a1, z), normal),
-                    ];
-                    mesh.triangles.push([v[0], v[1], v[2]]);
-                    mesh.triangles.push([v[0], v[2], v[3]]);
+                    mesh.push_quad([
+                        (point(*inner, a0, z), normal),
+                        (point(*outer, a0, z), normal),
+                        (point(*outer, a1, z), normal),
+                        (point(*inner, a1, z), normal),
+                    ]);
                 }
             }
             if open {
                 // The walls of the opening at its inner and outer radius.
-                for (r, sign) in [(hole_inner, 1.0), (hole_outer, -1.0)] {
-                    let n0 = [sign * a0.cos(), sign * a0.sin(), 0.0];
-                    let n1 = [sign * a1.cos(), sign * a1.sin(), 0.0];
-                    let v = [
-                        mesh.push(point(r, a0, -half_length), n0),
-                        mesh.push(point(r, a1, -half_length), n1),
-                        mesh.push(point(r, a1, half_length), n1),
-                        mesh.push(point(r, a0, half_length), n0),
-                    ];
-                    mesh.triangles.push([v[0], v[1], v[2]]);
-                    mesh.triangles.push([v[0], v[2], v[3]]);
-                }
+                mesh.push_wall(hole_inner, [a0, a1], half_length, true);
+                mesh.push_wall(hole_outer, [a0, a1], half_length, false);
             }
         }
         mesh

@@ -145,9 +145,8 @@ fn draw(frame: &mut Frame, camera: &CameraModel, light: &Light, drawable: &Drawa
         .positions
         .iter()
         .zip(&mesh.normals)
-        .zip(&mesh.tints)
         .enumerate()
-        .map(|(index, ((position, normal), tint))| {
+        .map(|(index, (position, normal))| {
             let world = drawable.pose.apply(*position);
             let mut n = drawable.pose.apply_direction(*normal);
             let to_eye = normalized(sub(camera.position, world));
@@ -163,7 +162,7 @@ fn draw(frame: &mut Frame, camera: &CameraModel, light: &Light, drawable: &Drawa
             ]);
             let highlight = light.specular * dot(n, half).max(0.0).powf(light.shininess);
             let shade = light.ambient + light.diffuse * lambert;
-            let color = linear.map(|c| c * shade * tint + highlight);
+            let color = linear.map(|c| c * shade + highlight);
             CameraVertex {
                 position: camera.to_camera(world),
                 color,
@@ -447,7 +446,6 @@ mod tests {
                 [-3.0, 3.0, 0.0],
             ],
             normals: vec![[0.0, 0.0, -1.0]; 4],
-            tints: vec![1.0; 4],
             along: vec![0.0; 4],
             triangles: vec![[0, 1, 2], [0, 2, 3]],
         };

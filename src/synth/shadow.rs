@@ -64,9 +64,10 @@ impl Shadow {
             }
         }
         // Two box passes each way approximate a Gaussian penumbra.
+        let mut scratch = BlurScratch::default();
         for _ in 0..2 {
-            box_blur_rows(&mut cover, width, height, radius);
-            box_blur_columns(&mut cover, width, height, radius);
+            box_blur_rows(&mut cover, width, height, radius, &mut scratch);
+            box_blur_columns(&mut cover, width, height, radius, &mut scratch);
         }
         let linear: Vec<f64> = (0..=255_u8)
             .map(|byte| srgb_to_linear(f64::from(byte) / 255.0))
@@ -84,40 +85,66 @@ impl Shadow {
     }
 }
 
+/// Buffers of the box filter, kept across lines and passes (a frame has thousands of lines).
+#[derive(Default)]
+struct BlurScratch {
+    line: Vec<f32>,
+    blurred: Vec<f32>,
+    prefix: Vec<f64>,
+}
+
 /// A running-sum box filter of half-width `radius` along each row (edges clamp the window).
-fn box_blur_rows(values: &mut [f32], width: usize, height: usize, radius: usize) {
+fn box_blur_rows(
+    values: &mut [f32],
+    width: usize,
+    height: usize,
+    radius: usize,
+    scratch: &mut BlurScratch,
+) {
     if radius == 0 {
         return;
     }
-    let mut row = vec![0.0_f32; width];
-    for y in 0..height {
-        row.copy_from_slice(&values[y * width..(y + 1) * width]);
-        blur_line(&row, &mut values[y * width..(y + 1) * width], radius);
+    for row in values.chunks_exact_mut(width).take(height) {
+        scratch.line.clear();
+        scratch.line.extend_from_slice(row);
+        blur_line(&scratch.line, row, radius, &mut scratch.prefix);
     }
 }
 
 /// The same filter down each column.
-fn box_blur_columns(values: &mut [f32], width: usize, height: usize, radius: usize) {
+fn box_blur_columns(
+    values: &mut [f32],
+    width: usize,
+    height: usize,
+    radius: usize,
+    scratch: &mut BlurScratch,
+) {
     if radius == 0 {
         return;
     }
-    let mut column = vec![0.0_f32; height];
-    let mut blurred = vec![0.0_f32; height];
+    scratch.blurred.resize(height, 0.0);
     for x in 0..width {
-        for y in 0..height {
-            column[y] = values[y * width + x];
-        }
-        blur_line(&column, &mut blurred, radius);
-        for y in 0..height {
-            values[y * width + x] = blurred[y];
+        scratch.line.clear();
+        scratch
+            .line
+            .extend((0..height).map(|y| values[y * width + x]));
+        blur_line(
+            &scratch.line,
+            &mut scratch.blurred,
+            radius,
+            &mut scratch.prefix,
+        );
+        for (y, value) in scratch.blurred.iter().enumerate() {
+            values[y * width + x] = *value;
         }
     }
 }
 
-/// Mean of `input` over `[i − radius, i + radius]` (clipped to the line) into `output`.
-fn blur_line(input: &[f32], output: &mut [f32], radius: usize) {
-    let mut prefix = Vec::with_capacity(input.len() + 1);
-    prefix.push(0.0_f64);
+/// Mean of `input` over `[i − radius, i + radius]` (clipped to the line) into `output`;
+/// `prefix` holds the running sums.
+fn blur_line(input: &[f32], output: &mut [f32], radius: usize, prefix: &mut Vec<f64>) {
+    prefix.clear();
+    prefix.push(0.0);
     let mut total = 0.0_f64;
     for &value in input {
         total += f64::from(value);

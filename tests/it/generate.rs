@@ -16,25 +16,35 @@ use contphy_eval::synth::palette::instance_color;
 use crate::support::{contphy, root, stderr, stdout};
 
 fn generate(out: &Path, videos: &str, seed: &str, jobs: &str) -> std::process::Output {
-    contphy(
-        &root(),
-        &[
-            "generate",
-            "--videos",
-            videos,
-            "--seed",
-            seed,
-            "--frames",
-            "png",
-            "--resolution",
-            "192x108",
-            "--jobs",
-            jobs,
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    )
+    generate_with(out, videos, seed, jobs, &[])
+}
+
+/// [`generate`] with more options (`extra`).
+fn generate_with(
+    out: &Path,
+    videos: &str,
+    seed: &str,
+    jobs: &str,
+    extra: &[&str],
+) -> std::process::Output {
+    let mut args = vec![
+        "generate",
+        "--videos",
+        videos,
+        "--seed",
+        seed,
+        "--frames",
+        "png",
+        "--resolution",
+        "192x108",
+        "--jobs",
+        jobs,
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    contphy(&root(), &args)
 }
 
 /// The boxes of one capture: instance id → (x0, y0, width, height).
@@ -265,25 +275,7 @@ fn a_randomised_appearance_changes_the_pixels_only() {
     let again = tempfile::tempdir().unwrap();
     assert!(generate(release.path(), "1", "8", "1").status.success());
     let randomize = |out: &Path, seed: &str| {
-        contphy(
-            &root(),
-            &[
-                "generate",
-                "--videos",
-                "1",
-                "--seed",
-                seed,
-                "--frames",
-                "png",
-                "--resolution",
-                "192x108",
-                "--appearance",
-                "randomized",
-                "--quiet",
-                "--out",
-                out.to_str().unwrap(),
-            ],
-        )
+        generate_with(out, "1", seed, "1", &["--appearance", "randomized"])
     };
     assert!(randomize(randomized.path(), "8").status.success());
     assert!(randomize(again.path(), "8").status.success());

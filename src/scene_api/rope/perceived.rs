@@ -742,13 +742,7 @@ mod tests {
                     node_track.iter().position(|t| *t == track).unwrap()
                 })
                 .collect();
-            read.push(Some(RopePath {
-                nodes: indices,
-                turns: turns.clone(),
-                covered: 0,
-                missed: 0,
-                on_mask: 0,
-            }));
+            read.push(Some(RopePath::unscored(indices, turns.clone())));
         }
         let camera = annotation.camera.clone().unwrap();
         let perceived = assemble(
@@ -847,25 +841,16 @@ mod tests {
         ];
         let detection = rope_detection();
         let ropes = [(5, &detection), (6, &detection)];
-        let main = RopePath {
-            nodes: vec![0, 1, 2, 3],
-            turns: vec![
+        let main = RopePath::unscored(
+            vec![0, 1, 2, 3],
+            vec![
                 None,
                 Some(Turn::CounterClockwise),
                 Some(Turn::Clockwise),
                 None,
             ],
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
-        let side = RopePath {
-            nodes: vec![4, 1],
-            turns: vec![None, None],
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
+        );
+        let side = RopePath::unscored(vec![4, 1], vec![None, None]);
         let camera = sample().0.camera.unwrap();
         let perceived = assemble(
             names.iter().map(|n| Some((*n).to_string())).collect(),

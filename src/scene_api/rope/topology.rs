@@ -137,6 +137,17 @@ struct Support {
 }
 
 impl RopePath {
+    /// A path with no samples counted yet.
+    pub(crate) fn unscored(nodes: Vec<usize>, turns: Vec<Option<Turn>>) -> RopePath {
+        RopePath {
+            nodes,
+            turns,
+            covered: 0,
+            missed: 0,
+            on_mask: 0,
+        }
+    }
+
     /// The straight segments of the path, end to end, units.
     pub(crate) fn segments(&self, nodes: &[Node]) -> Vec<([f64; 2], [f64; 2])> {
         self.nodes
@@ -440,13 +451,7 @@ fn read_rope(
         if !nodes[start].kind.can_end() {
             continue;
         }
-        let mut path = RopePath {
-            nodes: vec![start],
-            turns: vec![None],
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
+        let mut path = RopePath::unscored(vec![start], vec![None]);
         extend(nodes, &mut path, &mut lookup, &mut best);
     }
     best
@@ -597,13 +602,10 @@ mod tests {
             node(NodeKind::Load, 8.0 + r, -7.0),
             node(NodeKind::Anchor, 4.0, 9.0),
         ];
-        let truth = RopePath {
-            nodes: vec![0, 1, 2, 3],
-            turns: vec![None, Some(Turn::Clockwise), Some(Turn::Clockwise), None],
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
+        let truth = RopePath::unscored(
+            vec![0, 1, 2, 3],
+            vec![None, Some(Turn::Clockwise), Some(Turn::Clockwise), None],
+        );
         let drawn = truth.polyline(&nodes, 0.05);
         let mut covers = |rope: usize, point: [f64; 2]| {
             Some(
@@ -635,15 +637,8 @@ mod tests {
             node(NodeKind::MovablePulley { solid: true }, 9.0, 0.0),
             node(NodeKind::Load, 9.0, -4.0),
         ];
-        let path = |nodes: Vec<usize>, turns: Vec<Option<Turn>>| RopePath {
-            nodes,
-            turns,
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
-        let long = path(vec![0, 1, 2], vec![None, Some(Turn::Clockwise), None]);
-        let short = path(vec![3, 4], vec![None, None]);
+        let long = RopePath::unscored(vec![0, 1, 2], vec![None, Some(Turn::Clockwise), None]);
+        let short = RopePath::unscored(vec![3, 4], vec![None, None]);
         let long_pixels = long.polyline(&nodes, 0.05);
         let short_pixels = short.polyline(&nodes, 0.05);
         let near =
@@ -671,13 +666,8 @@ mod tests {
             pulley(0.0, 0.0),
             node(NodeKind::Load, r, -6.0),
         ];
-        let over_the_top = RopePath {
-            nodes: vec![0, 1, 2],
-            turns: vec![None, Some(Turn::Clockwise), None],
-            covered: 0,
-            missed: 0,
-            on_mask: 0,
-        };
+        let over_the_top =
+            RopePath::unscored(vec![0, 1, 2], vec![None, Some(Turn::Clockwise), None]);
         let points = over_the_top.polyline(&nodes, 0.1);
         let highest = points.iter().map(|p| p[1]).fold(f64::MIN, f64::max);
         assert!(
