@@ -369,7 +369,7 @@ pub(super) fn bench_perception(settings: &BenchPerceptionSettings) -> Result<Exi
             release_size.get_or_insert((rgb.width, rgb.height));
             let (mut detections, times) = detector.detect_timed(rgb).user()?;
             let color_started = Instant::now();
-            name_colors(rgb, &mut detections, &colors);
+            name_colors(rgb, &mut detections, &colors, detector.classes());
             timing.color_ms += color_started.elapsed().as_secs_f64() * 1e3;
             timing.frames += 1;
             timing.preprocess_ms += times.preprocess_ms;

@@ -21,6 +21,10 @@ pub struct ClassWords {
     /// The attribute values it carries (`shape` = `solid`, `dynamic` = `static`), attributes of
     /// the scenario's vocabulary.
     pub attributes: &'static [(&'static str, &'static str)],
+    /// The palette ids objects of the class can have (the release's colour pools); empty when
+    /// any. Colour reading chooses among these only: the release never paints a pulley black,
+    /// so a dark gray pulley in dim light is gray, not black.
+    pub colors: &'static [u8],
 }
 
 /// A scenario's detector classes.
@@ -257,6 +261,11 @@ impl ClassTable {
             .map(|(_, value)| *value)
     }
 
+    /// The palette ids objects of `class` can have; empty when any.
+    pub fn colors(&self, class: Class) -> &'static [u8] {
+        self.words(class).map_or(&[], |words| words.colors)
+    }
+
     /// The attribute names any class of the table carries, in first-seen order.
     pub fn attribute_names(&self) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = Vec::new();
@@ -289,16 +298,19 @@ mod tests {
             name: "cube",
             kind: "cube",
             attributes: &[],
+            colors: &[],
         },
         ClassWords {
             name: "solid pulley",
             kind: "pulley",
             attributes: &[("shape", "solid")],
+            colors: &[],
         },
         ClassWords {
             name: "hollow pulley",
             kind: "pulley",
             attributes: &[("shape", "hollow")],
+            colors: &[],
         },
     ];
 

@@ -252,15 +252,18 @@ impl ColorModel {
         Ok(model)
     }
 
-    /// The palette id of `features`: the majority of the nearest fitting samples (distances
-    /// scaled by each feature's spread), or the Gaussian of highest likelihood when the model
-    /// has no samples.
-    pub fn classify(&self, features: &ColorFeatures) -> Option<u8> {
-        if self.samples.len() >= NEIGHBOURS {
-            return self.nearest_neighbours(features);
+    /// The palette id of `features` among the colours `allowed` (every colour when empty): the
+    /// majority of the nearest fitting samples of those colours (distances scaled by each
+    /// feature's spread), or the Gaussian of highest likelihood when the model has too few
+    /// samples.
+    pub fn classify(&self, features: &ColorFeatures, allowed: &[u8]) -> Option<u8> {
+        let admitted = |id: u8| allowed.is_empty() || allowed.contains(&id);
+        if self.samples.iter().filter(|(id, _)| admitted(*id)).count() >= NEIGHBOURS {
+            return self.nearest_neighbours(features, admitted);
         }
         self.prototypes
             .iter()
+            .filter(|p| admitted(p.palette_id))
             .map(|p| {
                 let log_likelihood: f64 = (0..3)
                     .map(|c| {
@@ -277,7 +280,11 @@ impl ColorModel {
 }
 
 impl ColorModel {
-    fn nearest_neighbours(&self, features: &ColorFeatures) -> Option<u8> {
+    fn nearest_neighbours(
+        &self,
+        features: &ColorFeatures,
+        admitted: impl Fn(u8) -> bool,
+    ) -> Option<u8> {
         let n = self.samples.len() as f64;
         let mut scale = [0.0; 3];
         for c in 0..3 {
@@ -290,9 +297,11 @@ impl ColorModel {
                 / n;
             scale[c] = variance.sqrt().max(1e-6);
         }
+        // The spread is the whole model's, so distances do not depend on which colours are admitted.
         let mut distances: Vec<(f64, u8)> = self
             .samples
             .iter()
+            .filter(|(id, _)| admitted(*id))
             .map(|(id, f)| {
                 let d: f64 = (0..3)
                     .map(|c| ((f[c] - features[c]) / scale[c]).powi(2))
@@ -321,12 +330,14 @@ impl ColorModel {
     }
 }
 
-/// Names each detection's colour with `model`, reading the wall around the detections; leaves
-/// the colours unset when the detections cover the whole frame.
+/// Names each detection's colour with `model`, among the colours its class can have (`table`),
+/// reading the wall around the detections; leaves the colours unset when the detections cover the
+/// whole frame.
 pub fn name_colors(
     frame: &RgbFrame,
     detections: &mut [super::detection::Detection],
     model: &ColorModel,
+    table: &super::classes::ClassTable,
 ) {
     let masks: Vec<&InstanceMask> = detections.iter().map(|d| &d.mask).collect();
     let Some(wall) = wall_color(frame, &masks) else {
@@ -334,7 +345,9 @@ pub fn name_colors(
     };
     let named: Vec<Option<u8>> = detections
         .iter()
-        .map(|d| features(frame, &d.mask, wall).and_then(|f| model.classify(&f)))
+        .map(|d| {
+            features(frame, &d.mask, wall).and_then(|f| model.classify(&f, table.colors(d.class)))
+        })
         .collect();
     for (detection, color) in detections.iter_mut().zip(named) {
         detection.color = color;
@@ -373,8 +386,32 @@ mod tests {
         }
         let model = ColorModel::fit(&samples, "test").expect("a model");
         assert_eq!(model.samples.len(), 20);
-        assert_eq!(model.classify(&[0.404, 0.2, -0.48]), Some(6));
-        assert_eq!(model.classify(&[0.404, 0.2, 0.02]), Some(0));
+        assert_eq!(model.classify(&[0.404, 0.2, -0.48], &[]), Some(6));
+        assert_eq!(model.classify(&[0.404, 0.2, 0.02], &[]), Some(0));
+    }
+
+    #[test]
+    fn a_colour_the_class_cannot_have_is_never_read() {
+        // A dark sample nearest to black's samples, read for a class without black (a pulley),
+        // is the nearest colour the class can have: gray.
+        let mut samples = Vec::new();
+        for i in 0..8 {
+            let jitter = f64::from(i) * 0.002;
+            samples.push((10, [0.33 + jitter, 0.33, -2.0]));
+            samples.push((9, [0.33 + jitter, 0.33, -1.0]));
+            samples.push((0, [0.90 + jitter, 0.05, -0.5]));
+        }
+        let model = ColorModel::fit(&samples, "test").expect("a model");
+        let dark = [0.335, 0.33, -1.8];
+        assert_eq!(model.classify(&dark, &[]), Some(10));
+        assert_eq!(model.classify(&dark, &[0, 9, 11]), Some(9));
+        assert_eq!(model.classify(&dark, &[0]), Some(0));
+        // No sample of an admitted colour: nothing is read.
+        assert_eq!(model.classify(&dark, &[7]), None);
+        // Too few samples: the Gaussians decide, among the admitted colours only.
+        let sparse = ColorModel::fit(&samples[..6], "test").expect("a model");
+        assert_eq!(sparse.classify(&dark, &[]), Some(10));
+        assert_eq!(sparse.classify(&dark, &[0, 9]), Some(9));
     }
 
     #[test]
@@ -418,8 +455,8 @@ mod tests {
         let (green_frame, _) = frame_with_square([0, 200, 0]);
         let green = features(&green_frame, &mask, wall).expect("100 pixels");
         let model = ColorModel::fit(&[(0, red), (0, red), (3, green)], "test").expect("a model");
-        assert_eq!(model.classify(&red), Some(0));
-        assert_eq!(model.classify(&green), Some(3));
+        assert_eq!(model.classify(&red, &[]), Some(0));
+        assert_eq!(model.classify(&green, &[]), Some(3));
         assert!(ColorModel::fit(&[], "none").is_err());
         // Too few pixels.
         let tiny = InstanceMask::from_predicate(40, 30, |x, y| x == 10 && y < 3);

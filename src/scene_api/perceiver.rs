@@ -312,7 +312,7 @@ impl Perceiver {
                 }
                 for frame in &frames {
                     let mut detections = detector.detect(frame).map_err(unavailable)?;
-                    name_colors(frame, &mut detections, colors);
+                    name_colors(frame, &mut detections, colors, detector.classes());
                     found.insert(frame.index, detections);
                 }
                 Ok(())

@@ -5,47 +5,67 @@
 use super::ScenarioPerception;
 use super::classes::{ClassWords, ScenarioClasses};
 
+/// The base colour list of the release's objects: loads, pulleys and fixed points take every
+/// colour but black (`PlacementConfig`'s pools; palette ids of `perception::palette`).
+pub const OBJECT_COLORS: [u8; 11] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11];
+/// The base colour list of the release's ropes: no orange, brown or gray.
+pub const ROPE_COLORS: [u8; 9] = [0, 2, 3, 4, 5, 6, 7, 10, 11];
+
+/// The colours an object can have: its base list, then the light colours (12–16) a pool hands
+/// out once its base list is used up.
+const OBJECT_PALETTE: [u8; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 16];
+/// The colours a rope can have.
+const ROPE_PALETTE: [u8; 14] = [0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 15, 16];
+
 /// The rope classes, in the rope model's label order.
 const CLASSES: [ClassWords; 8] = [
     ClassWords {
         name: "cube",
         kind: "cube",
         attributes: &[("dynamic", "dynamic")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "sphere",
         kind: "sphere",
         attributes: &[("dynamic", "dynamic")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "rope",
         kind: "rope",
         attributes: &[("dynamic", "dynamic")],
+        colors: &ROPE_PALETTE,
     },
     ClassWords {
         name: "fixed point",
         kind: "fixed point",
         attributes: &[("dynamic", "static")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "solid static pulley",
         kind: "pulley",
         attributes: &[("shape", "solid"), ("dynamic", "static")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "hollow static pulley",
         kind: "pulley",
         attributes: &[("shape", "hollow"), ("dynamic", "static")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "solid dynamic pulley",
         kind: "pulley",
         attributes: &[("shape", "solid"), ("dynamic", "dynamic")],
+        colors: &OBJECT_PALETTE,
     },
     ClassWords {
         name: "hollow dynamic pulley",
         kind: "pulley",
         attributes: &[("shape", "hollow"), ("dynamic", "dynamic")],
+        colors: &OBJECT_PALETTE,
     },
 ];
 
@@ -107,6 +127,20 @@ pub(crate) fn test_class(name: &str) -> super::classes::Class {
 mod tests {
     use super::*;
     use crate::perception::classes::{ClassTable, read_classes};
+
+    #[test]
+    fn class_colours_are_the_release_pools_then_the_light_colours() {
+        use crate::perception::palette::LIGHT_COLORS;
+        let object: Vec<u8> = OBJECT_COLORS.iter().chain(&LIGHT_COLORS).copied().collect();
+        let rope: Vec<u8> = ROPE_COLORS.iter().chain(&LIGHT_COLORS).copied().collect();
+        for class in CLASSES {
+            let expected = if class.name == "rope" { &rope } else { &object };
+            assert_eq!(class.colors, expected.as_slice(), "{}", class.name);
+        }
+        // Black (10) is a rope colour only; gray (9) an object colour only.
+        assert!(!OBJECT_PALETTE.contains(&10) && ROPE_PALETTE.contains(&10));
+        assert!(OBJECT_PALETTE.contains(&9) && !ROPE_PALETTE.contains(&9));
+    }
 
     #[test]
     fn object_names_of_the_release_map_to_classes() {

@@ -75,6 +75,11 @@ use {
 
 /// Fewest frames a window must hold for its parabola to mean anything.
 pub const MIN_FRAMES: usize = 8;
+/// Frames a noisy track's window starts from when one parabola fits them (else from
+/// [`MIN_FRAMES`]): the curvature of a parabola through eight noisy frames is mostly noise, and
+/// a track read from masks drifts for several frames at a time (a mask edge gains or loses a
+/// pixel row), so eight-frame extrapolations miss the next frame by more than the noise says.
+pub const NOISY_START_FRAMES: usize = 12;
 /// Largest RMS misfit (m) of a window's parabola, or [`RESIDUAL_NOISE_FACTOR`] times the
 /// track's noise when that is larger: the real video's tracked loads follow one parabola over
 /// all 150 frames to 0.009 m, a load that hits a stop does not.

@@ -3,16 +3,16 @@
 
 use super::super::super::linalg::{Matrix, solve};
 use super::{
-    EXACT_TRACK_NOISE, MIN_FRAMES, NOISE_FRAMES, PREDICTION_NOISE_FACTOR, PREDICTION_TOLERANCE,
-    PREDICTION_TRACK_NOISE_FACTOR, RESIDUAL_NOISE_FACTOR, RESIDUAL_TOLERANCE,
+    EXACT_TRACK_NOISE, MIN_FRAMES, NOISE_FRAMES, NOISY_START_FRAMES, PREDICTION_NOISE_FACTOR,
+    PREDICTION_TOLERANCE, PREDICTION_TRACK_NOISE_FACTOR, RESIDUAL_NOISE_FACTOR, RESIDUAL_TOLERANCE,
 };
 
 /// How many of the first frames follow one parabola: the window grows frame by frame while
 /// the parabola through the frames so far predicts the next one and still fits them all when
 /// it is added, to within tolerances that grow with the track's noise ([`track_noise`]). An
-/// exact track grows from three frames; a noisy one from [`MIN_FRAMES`] (or from three when
-/// even those do not fit one parabola, so a motion that changes early reads as such). Below
-/// [`MIN_FRAMES`] it is too short to measure.
+/// exact track grows from three frames; a noisy one from [`NOISY_START_FRAMES`] or
+/// [`MIN_FRAMES`], the first that one parabola fits (or from three when neither does, so a
+/// motion that changes early reads as such). Below [`MIN_FRAMES`] it is too short to measure.
 pub(super) fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
     let count = times.len().min(heights.len());
     if count < 3 {
@@ -20,12 +20,18 @@ pub(super) fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
     }
     let noise = track_noise(&heights[..count]);
     let residual_tolerance = RESIDUAL_TOLERANCE.max(RESIDUAL_NOISE_FACTOR * noise);
-    let start = if noise > EXACT_TRACK_NOISE && count >= MIN_FRAMES {
-        fit_parabola(&times[..MIN_FRAMES], &heights[..MIN_FRAMES])
-            .filter(|fit| fit.residual <= residual_tolerance)
-            .map_or(3, |_| MIN_FRAMES)
-    } else {
+    let fits = |frames: usize| {
+        frames <= count
+            && fit_parabola(&times[..frames], &heights[..frames])
+                .is_some_and(|fit| fit.residual <= residual_tolerance)
+    };
+    let start = if noise <= EXACT_TRACK_NOISE {
         3
+    } else {
+        [NOISY_START_FRAMES, MIN_FRAMES]
+            .into_iter()
+            .find(|&frames| fits(frames))
+            .unwrap_or(3)
     };
     let mut frames = start;
     let Some(mut fit) = fit_parabola(&times[..frames], &heights[..frames]) else {
@@ -50,8 +56,12 @@ pub(super) fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
 }
 
 /// The RMS noise of a track (m), from its second differences over the first
-/// [`NOISE_FRAMES`] frames: white noise of σ gives differences of σ·√6; the median absolute
-/// deviation keeps a contact or two from inflating it.
+/// [`NOISE_FRAMES`] frames: white noise of σ gives differences of σ·√6. The spread is the RMS
+/// deviation from the median difference with the largest tenth left out, so a contact or two do
+/// not inflate it, scaled to be σ for white noise. A median absolute deviation would not do: a
+/// track read from mask centroids moves in steps (most frames repeat the last height, then it
+/// jumps by a fraction of a pixel), so most differences are zero and the median says the track
+/// is exact while single frames sit ±1 step off any parabola.
 fn track_noise(heights: &[f64]) -> f64 {
     let end = heights.len().min(NOISE_FRAMES);
     let mut differences: Vec<f64> = heights[..end]
@@ -61,14 +71,18 @@ fn track_noise(heights: &[f64]) -> f64 {
     if differences.is_empty() {
         return 0.0;
     }
-    let median = |values: &mut Vec<f64>| {
-        values.sort_by(f64::total_cmp);
-        values[values.len() / 2]
-    };
-    let centre = median(&mut differences);
+    differences.sort_by(f64::total_cmp);
+    let centre = differences[differences.len() / 2];
     let mut deviations: Vec<f64> = differences.iter().map(|d| (d - centre).abs()).collect();
-    1.4826 * median(&mut deviations) / 6.0_f64.sqrt()
+    deviations.sort_by(f64::total_cmp);
+    let kept = deviations.len() - deviations.len() / 10;
+    let mean_square = deviations[..kept].iter().map(|d| d * d).sum::<f64>() / kept as f64;
+    mean_square.sqrt() / TRIMMED_NORMAL_RMS / 6.0_f64.sqrt()
 }
+
+/// The RMS of a standard normal variable with its largest tenth (in magnitude) left out:
+/// √((0.9 − 2·1.6449·φ(1.6449)) / 0.9).
+const TRIMMED_NORMAL_RMS: f64 = 0.789_3;
 
 /// A least-squares parabola `h(t) = h₀ + v₀ τ + ½ a τ²`, `τ = t − t₀`.
 pub(super) struct Parabola {

@@ -142,6 +142,40 @@ fn parabolas_are_recovered_and_windows_end_at_a_kink() {
 }
 
 #[test]
+fn a_track_read_from_masks_keeps_its_window_through_a_drift_of_its_first_frames() {
+    // The real video's green cube as the shipped detector tracks it (mask centroids lifted onto
+    // the scene plane, m; frames 0–59): it falls from rest, but its mask edge drifts up for the
+    // first ten frames and jumps back. From eight frames the window ended at ten, too short to
+    // tell the cube from its partner; from twelve it holds all sixty and falls at ~0.31 m/s².
+    // (This track is the real video's: the start was chosen after reading it, so the real
+    // video's mass answers are in-sample for this constant.)
+    const GREEN: [f64; 60] = [
+        -5.685, -5.686, -5.673, -5.673, -5.674, -5.674, -5.673, -5.659, -5.660, -5.661, -5.687,
+        -5.685, -5.688, -5.708, -5.724, -5.724, -5.723, -5.721, -5.721, -5.733, -5.733, -5.732,
+        -5.744, -5.743, -5.744, -5.756, -5.768, -5.777, -5.785, -5.797, -5.823, -5.837, -5.852,
+        -5.860, -5.859, -5.859, -5.861, -5.877, -5.880, -5.891, -5.905, -5.903, -5.933, -5.950,
+        -5.966, -5.999, -6.028, -6.039, -6.052, -6.053, -6.082, -6.083, -6.096, -6.118, -6.120,
+        -6.151, -6.165, -6.195, -6.231, -6.240,
+    ];
+    let times: Vec<f64> = (0..60).map(|i| f64::from(i) / 30.0).collect();
+    assert_eq!(clean_frames(&times, &GREEN), 60);
+    let fit = fit_parabola(&times, &GREEN).unwrap();
+    assert!(
+        (fit.acceleration + 0.31).abs() < 0.02,
+        "{}",
+        fit.acceleration
+    );
+    // Noise alone does not end a window early; a stop still does. A track in 0.013 m steps
+    // that stops dead at frame 30 after falling at 0.6 m/s.
+    let stepped: Vec<f64> = times
+        .iter()
+        .map(|&t| (-0.5 * 0.6 * t.min(1.0) * t.min(1.0) / 0.013).round() * 0.013)
+        .collect();
+    let frames = clean_frames(&times, &stepped);
+    assert!((30..=34).contains(&frames), "{frames}");
+}
+
+#[test]
 fn atwood_with_pulley_inertia_is_decided_less_than() {
     // 0.2 kg against 0.25 kg over a 1 kg disc pulley, the real video's first group in small:
     // a = g (m₂ − m₁)/(m₁ + m₂ + I/R²) = 0.69 m/s², over 149 frames.

@@ -33,10 +33,9 @@ impl Pool {
     }
 }
 
-/// The base colour list of objects (every colour but black).
-const OBJECT_COLORS: [u8; 11] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11];
-/// The base colour list of ropes.
-const ROPE_COLORS: [u8; 9] = [0, 2, 3, 4, 5, 6, 7, 10, 11];
+// The base colour lists of objects and ropes are the release's, shared with perception, which
+// reads a colour among those its class can have.
+use crate::perception::rope::{OBJECT_COLORS, ROPE_COLORS};
 
 /// The release's colour pools, one per kind of object and one for ropes.
 pub(super) struct Pools {
