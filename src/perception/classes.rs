@@ -35,6 +35,10 @@ pub struct ScenarioClasses {
     /// The class name of a release object name (`Pink Hollow Static Pulley (0 5)` → `hollow
     /// static pulley`), for ground truth; `None` for objects that are no class (`Solver`).
     pub class_of_object: fn(&str) -> Option<&'static str>,
+    /// Whether no two objects of one class share a colour (each class draws from its own
+    /// pool), so two tracks of a class read in one colour are a misreading
+    /// (`perception::distinct`).
+    pub distinct_colors: bool,
 }
 
 impl ScenarioClasses {
@@ -261,6 +265,11 @@ impl ClassTable {
             .map(|(_, value)| *value)
     }
 
+    /// Whether no two objects of one class share a colour.
+    pub fn distinct_colors_within_class(&self) -> bool {
+        self.scenario.distinct_colors
+    }
+
     /// The palette ids objects of `class` can have; empty when any.
     pub fn colors(&self, class: Class) -> &'static [u8] {
         self.words(class).map_or(&[], |words| words.colors)
@@ -321,6 +330,7 @@ mod tests {
     const SCENARIO: ScenarioClasses = ScenarioClasses {
         classes: &WORDS,
         class_of_object: object_class,
+        distinct_colors: false,
     };
 
     #[test]

@@ -257,6 +257,14 @@ impl ColorModel {
     /// feature's spread), or the Gaussian of highest likelihood when the model has too few
     /// samples.
     pub fn classify(&self, features: &ColorFeatures, allowed: &[u8]) -> Option<u8> {
+        self.votes(features, allowed).first().map(|(id, _)| *id)
+    }
+
+    /// The colours `allowed` (every colour when empty) that the nearest fitting samples of
+    /// those colours name, with how many of the [`NEIGHBOURS`] each has, most votes first (then
+    /// the closer voters, then the smaller id); with too few samples, the Gaussian of highest
+    /// likelihood alone, with every vote.
+    pub fn votes(&self, features: &ColorFeatures, allowed: &[u8]) -> Vec<(u8, usize)> {
         let admitted = |id: u8| allowed.is_empty() || allowed.contains(&id);
         if self.samples.iter().filter(|(id, _)| admitted(*id)).count() >= NEIGHBOURS {
             return self.nearest_neighbours(features, admitted);
@@ -275,7 +283,8 @@ impl ColorModel {
             })
             .filter(|(l, _)| l.is_finite())
             .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
-            .map(|(_, id)| id)
+            .map(|(_, id)| vec![(id, NEIGHBOURS)])
+            .unwrap_or_default()
     }
 }
 
@@ -284,7 +293,7 @@ impl ColorModel {
         &self,
         features: &ColorFeatures,
         admitted: impl Fn(u8) -> bool,
-    ) -> Option<u8> {
+    ) -> Vec<(u8, usize)> {
         let n = self.samples.len() as f64;
         let mut scale = [0.0; 3];
         for c in 0..3 {
@@ -323,10 +332,11 @@ impl ColorModel {
                 None => tally.push((*id, 1, *d)),
             }
         }
+        tally.sort_by(|a, b| b.1.cmp(&a.1).then(a.2.total_cmp(&b.2)).then(a.0.cmp(&b.0)));
         tally
             .into_iter()
-            .max_by(|a, b| a.1.cmp(&b.1).then(b.2.total_cmp(&a.2)).then(b.0.cmp(&a.0)))
-            .map(|(id, _, _)| id)
+            .map(|(id, votes, _)| (id, votes))
+            .collect()
     }
 }
 

@@ -18,6 +18,7 @@
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
 //! * [`assignment`]: optimal one-to-one matching (the Hungarian method).
 //! * [`tracking`]: linking detections across frames into tracks with stable ids.
+//! * [`distinct`]: distinct colours for the tracks of a class whose objects never share one.
 //! * [`evaluation`]: perception metrics against ground truth (mask and box AP, attribute
 //!   accuracy, identity switches).
 
@@ -27,6 +28,7 @@ pub mod classes;
 pub mod color;
 pub mod detection;
 pub mod detector;
+pub mod distinct;
 pub mod evaluation;
 pub mod frames;
 pub mod palette;

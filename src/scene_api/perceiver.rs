@@ -32,6 +32,7 @@ use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses}
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::Detection;
 use crate::perception::detector::{Detector, DetectorConfig};
+use crate::perception::distinct::separate_class_colors;
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
 use crate::perception::palette::palette_color;
 use crate::perception::tracking::{Track, TrackerConfig, track};
@@ -232,7 +233,12 @@ impl Perceiver {
         }
         let wanted = self.first_frames();
         let (per_frame, frames) = self.detect(&wanted, true)?;
-        self.first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
+        let mut first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
+        with_models(&self.models, self.classes, |detector, colors| {
+            separate_class_colors(&mut first, &per_frame, &frames, colors, detector.classes());
+            Ok(())
+        })?;
+        self.first = first;
         self.kept = per_frame.into_iter().collect();
         Ok(frames)
     }

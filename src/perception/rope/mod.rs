@@ -74,6 +74,9 @@ pub const PERCEPTION: ScenarioPerception = ScenarioPerception {
     classes: ScenarioClasses {
         classes: &CLASSES,
         class_of_object,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     detector: "models/maskrcnn-rope.onnx",
     colors: "models/color-model.json",
