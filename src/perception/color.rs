@@ -148,7 +148,7 @@ pub struct TrainingVideo {
 }
 
 /// Neighbours that vote in [`ColorModel::classify`].
-const NEIGHBOURS: usize = 7;
+pub const NEIGHBOURS: usize = 7;
 
 /// Why a colour model could not be read or fitted.
 #[derive(Debug, thiserror::Error)]

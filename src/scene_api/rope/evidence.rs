@@ -18,14 +18,41 @@ use crate::perception::frames::RgbFrame;
 /// units.
 const LOOSE_END_CLEARANCE: f64 = 0.5;
 
+/// Within this share of the frame height of an object's mask, a rope's end pixel ends at that
+/// object, whatever the scene distance between their centres says: a rope's coarse mask can stop
+/// short of the load it is tied to (27 pixels of 1080, 2.5%, at a large cube tied by its
+/// corner), farther on the scene plane than the load's nominal body reaches.
+const TOUCH_SHARE: f64 = 0.03;
+
 /// Candidate fixed points where the ropes' pixels end: the top and bottom of each rope's first
-/// mask, lifted onto the scene plane, when no node (or earlier candidate) is near.
+/// mask, lifted onto the scene plane, when no node (or earlier candidate) is near and no other
+/// object's mask in that frame touches the end.
 pub(super) fn loose_ends(
+    pass: &FirstPass<'_>,
     ropes: &[(usize, &Detection)],
     nodes: &[Node],
     model: &CameraModel,
     camera: &Camera,
 ) -> Vec<Node> {
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "a small positive pixel count"
+    )]
+    let reach = (f64::from(pass.size.1) * TOUCH_SHARE).ceil().max(1.0) as u32;
+    let touches_object = |frame: usize, x: u32, y: u32| {
+        pass.detections.get(&frame).is_some_and(|found| {
+            found
+                .iter()
+                .filter(|d| pass.classes.name(d.class) != "rope")
+                .any(|d| {
+                    (y.saturating_sub(reach)..=y.saturating_add(reach)).any(|ny| {
+                        (x.saturating_sub(reach)..=x.saturating_add(reach))
+                            .any(|nx| d.mask.contains(nx, ny))
+                    })
+                })
+        })
+    };
     let mut found: Vec<Node> = Vec::new();
     for (_, detection) in ropes {
         let mut top: Option<(u32, u32)> = None;
@@ -44,9 +71,10 @@ pub(super) fn loose_ends(
             };
             let near = nodes.iter().any(|node| {
                 distance(node.centre, centre) < node.kind.body_radius() + LOOSE_END_CLEARANCE
-            }) || found
-                .iter()
-                .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE);
+            }) || touches_object(detection.frame, x, y)
+                || found
+                    .iter()
+                    .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE);
             if !near {
                 found.push(Node {
                     kind: NodeKind::Anchor,
@@ -261,5 +289,73 @@ impl RopeEvidence {
         } else {
             Sample::Missed
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::perception::classes::ClassTable;
+    use crate::perception::rope::{PERCEPTION, test_class};
+    use crate::scene_api::rope::simulation::tests::sample;
+    use std::collections::BTreeMap;
+
+    fn detection(class: &str, mask: InstanceMask) -> Detection {
+        Detection {
+            frame: 0,
+            class: test_class(class),
+            score: 0.9,
+            bbox: [0.0; 4],
+            mask,
+            color: None,
+        }
+    }
+
+    /// Loose ends of a vertical rope (x = 960, y = 300..=500 in a 1920×1080 frame) above a
+    /// cube whose mask starts `gap` pixels below the rope's last pixel, with no node near.
+    fn loose_ends_with_gap(gap: u32) -> usize {
+        let (width, height) = (1920, 1080);
+        let rope = detection(
+            "rope",
+            InstanceMask::from_predicate(width, height, |x, y| {
+                x == 960 && (300..=500).contains(&y)
+            }),
+        );
+        let top = 501 + gap;
+        let cube = detection(
+            "cube",
+            InstanceMask::from_predicate(width, height, |x, y| {
+                (930..990).contains(&x) && (top..top + 60).contains(&y)
+            }),
+        );
+        let classes = ClassTable::of_scenario(PERCEPTION.classes);
+        let detections = BTreeMap::from([(0, vec![rope.clone(), cube])]);
+        let pass = FirstPass {
+            classes: &classes,
+            tracks: &[],
+            detections: &detections,
+            size: (width, height),
+            frame_count: 1,
+        };
+        let camera = sample().0.camera.unwrap();
+        let model = CameraModel::from_unity_euler(
+            camera.position,
+            camera.rotation_deg,
+            camera.vertical_fov_deg,
+            width,
+            height,
+        );
+        loose_ends(&pass, &[(0, &rope)], &[], &model, &camera).len()
+    }
+
+    #[test]
+    fn a_rope_end_touching_an_objects_mask_is_not_a_loose_end() {
+        // The rope's top end touches nothing: a candidate fixed point. Its bottom end stops
+        // 20 pixels (under 3% of the frame height) short of the cube's mask, as a coarse rope
+        // mask does at a load tied by its corner: it ends at the cube, whatever the distance
+        // between the cube's centre and the end on the scene plane says.
+        assert_eq!(loose_ends_with_gap(20), 1);
+        // 60 pixels short: the rope ends in mid-air, at a fixed point the detector missed.
+        assert_eq!(loose_ends_with_gap(60), 2);
     }
 }
