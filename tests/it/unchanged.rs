@@ -212,12 +212,12 @@ fn demo_results_under_every_backend_pair_are_unchanged() {
         (
             "maskrcnn",
             "annotation",
-            "7b9b2cf28c30fdf3eec430cb60615e6da104971ed24bd27d6312f69eabb0aeb9",
+            "0f3e145d8ff0249cd96ce8849dbcb3cabbc4ed1327259b3bb4971590d5292532",
         ),
         (
             "maskrcnn",
             "simulate",
-            "5b63f224eb3e37f332655966744e7a7570f4525fc6aefe933015feeb55f13dd0",
+            "9ae0ce53019645c1fe840b53a47c35b136f8fa282ad9fcacb439f6ae25568d7e",
         ),
     ];
     let out = tempfile::tempdir().unwrap();
