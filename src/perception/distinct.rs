@@ -32,6 +32,10 @@ pub fn separate_class_colors(
     if !table.distinct_colors_within_class() {
         return;
     }
+    let collisions = colliding_groups(tracks);
+    if collisions.is_empty() {
+        return;
+    }
     let walls: BTreeMap<usize, [f64; 3]> = detections
         .iter()
         .filter_map(|(frame, found)| {
@@ -62,7 +66,6 @@ pub fn separate_class_colors(
         }
         tally
     };
-    let collisions = colliding_groups(tracks);
     for (class, color, members) in collisions {
         let class_colors = table.colors(class);
         let mut ranked: Vec<(usize, usize)> = members
@@ -88,8 +91,10 @@ pub fn separate_class_colors(
                 super::palette::PALETTE.iter().map(|c| c.id).collect()
             } else {
                 class_colors.to_vec()
-            };
-            let free: Vec<u8> = free.into_iter().filter(|c| !held.contains(c)).collect();
+            }
+            .into_iter()
+            .filter(|c| !held.contains(c))
+            .collect();
             if free.is_empty() {
                 continue;
             }

@@ -13,9 +13,25 @@ pub const ROPE_COLORS: [u8; 9] = [0, 2, 3, 4, 5, 6, 7, 10, 11];
 
 /// The colours an object can have: its base list, then the light colours (12–16) a pool hands
 /// out once its base list is used up.
-const OBJECT_PALETTE: [u8; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 16];
+const OBJECT_PALETTE: [u8; 16] = with_light_colors(OBJECT_COLORS);
 /// The colours a rope can have.
-const ROPE_PALETTE: [u8; 14] = [0, 2, 3, 4, 5, 6, 7, 10, 11, 12, 13, 14, 15, 16];
+const ROPE_PALETTE: [u8; 14] = with_light_colors(ROPE_COLORS);
+
+/// `base` followed by the light colours (`M` = `N` + 5, checked when the constant is built).
+const fn with_light_colors<const N: usize, const M: usize>(base: [u8; N]) -> [u8; M] {
+    let light = super::palette::LIGHT_COLORS;
+    assert!(
+        M == N + light.len(),
+        "a palette is its base list and the light colours"
+    );
+    let mut out = [0; M];
+    let mut i = 0;
+    while i < M {
+        out[i] = if i < N { base[i] } else { light[i - N] };
+        i += 1;
+    }
+    out
+}
 
 /// The rope classes, in the rope model's label order.
 const CLASSES: [ClassWords; 8] = [

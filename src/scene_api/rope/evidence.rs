@@ -297,6 +297,7 @@ mod tests {
     use super::*;
     use crate::perception::classes::ClassTable;
     use crate::perception::rope::{PERCEPTION, test_class};
+    use crate::scene_api::rope::perceived::camera_model;
     use crate::scene_api::rope::simulation::tests::sample;
     use std::collections::BTreeMap;
 
@@ -338,13 +339,7 @@ mod tests {
             frame_count: 1,
         };
         let camera = sample().0.camera.unwrap();
-        let model = CameraModel::from_unity_euler(
-            camera.position,
-            camera.rotation_deg,
-            camera.vertical_fov_deg,
-            width,
-            height,
-        );
+        let model = camera_model(&camera, (width, height));
         loose_ends(&pass, &[(0, &rope)], &[], &model, &camera).len()
     }
 

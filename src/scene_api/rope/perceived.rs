@@ -192,19 +192,24 @@ pub(crate) type PerceivedPositions = Vec<(String, Vec<Option<[f64; 3]>>)>;
 /// tracks over all frames ([`Perceiver::full_pass`]), their mask centroids lifted onto the
 /// scene plane (`z = 0`, where the release lays out every rope scene) along the camera's
 /// viewing rays.
+/// The projection of the release's camera record onto frames of `size` (width, height).
+pub(crate) fn camera_model(camera: &Camera, size: (u32, u32)) -> CameraModel {
+    CameraModel::from_unity_euler(
+        camera.position,
+        camera.rotation_deg,
+        camera.vertical_fov_deg,
+        size.0,
+        size.1,
+    )
+}
+
 pub(crate) fn perceived_positions(
     perceiver: &mut Perceiver,
     camera: &Camera,
 ) -> Result<PerceivedPositions, ApiError> {
     let named = perceiver.full_pass()?;
     let (width, height, _) = perceiver.frames();
-    let model = CameraModel::from_unity_euler(
-        camera.position,
-        camera.rotation_deg,
-        camera.vertical_fov_deg,
-        width,
-        height,
-    );
+    let model = camera_model(camera, (width, height));
     let mut positions = Vec::new();
     for (name, track) in named {
         let last = track.last_frame().unwrap_or(0);
@@ -310,13 +315,7 @@ pub(crate) fn perceive_rope(
         size,
         frame_count,
     } = *pass;
-    let model = CameraModel::from_unity_euler(
-        camera.position,
-        camera.rotation_deg,
-        camera.vertical_fov_deg,
-        size.0,
-        size.1,
-    );
+    let model = camera_model(camera, size);
     // Names: unique, release-style.
     let mut names = track_names(tracks, classes);
     let Placed {

@@ -20,21 +20,19 @@ pub(super) fn clean_frames(times: &[f64], heights: &[f64]) -> usize {
     }
     let noise = track_noise(&heights[..count]);
     let residual_tolerance = RESIDUAL_TOLERANCE.max(RESIDUAL_NOISE_FACTOR * noise);
-    let fits = |frames: usize| {
-        frames <= count
-            && fit_parabola(&times[..frames], &heights[..frames])
-                .is_some_and(|fit| fit.residual <= residual_tolerance)
+    let fitting_start = |frames: usize| {
+        let fit = fit_parabola(times.get(..frames)?, heights.get(..frames)?)?;
+        (fit.residual <= residual_tolerance).then_some((frames, fit))
     };
-    let start = if noise <= EXACT_TRACK_NOISE {
-        3
+    let noisy_start = if noise <= EXACT_TRACK_NOISE {
+        None
     } else {
         [NOISY_START_FRAMES, MIN_FRAMES]
             .into_iter()
-            .find(|&frames| fits(frames))
-            .unwrap_or(3)
+            .find_map(fitting_start)
     };
-    let mut frames = start;
-    let Some(mut fit) = fit_parabola(&times[..frames], &heights[..frames]) else {
+    let start = noisy_start.or_else(|| Some((3, fit_parabola(&times[..3], &heights[..3])?)));
+    let Some((mut frames, mut fit)) = start else {
         return 0;
     };
     while frames < count {

@@ -6,6 +6,9 @@ use rand_chacha::ChaCha8Rng;
 
 use super::super::super::palette::{LIGHT_COLORS, palette_color};
 use super::LoadShape;
+// The base colour lists of objects and ropes are the release's, shared with perception, which
+// reads a colour among those its class can have.
+use crate::perception::rope::{OBJECT_COLORS, ROPE_COLORS};
 
 /// A colour pool: a shuffled base list followed by the light colours; past its end it keeps
 /// returning its first colour (the release's `take`).
@@ -32,10 +35,6 @@ impl Pool {
         color
     }
 }
-
-// The base colour lists of objects and ropes are the release's, shared with perception, which
-// reads a colour among those its class can have.
-use crate::perception::rope::{OBJECT_COLORS, ROPE_COLORS};
 
 /// The release's colour pools, one per kind of object and one for ropes.
 pub(super) struct Pools {
