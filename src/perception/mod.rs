@@ -18,6 +18,7 @@
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
 //! * [`assignment`]: optimal one-to-one matching (the Hungarian method).
 //! * [`tracking`]: linking detections across frames into tracks with stable ids.
+//! * [`closer`]: a track's class decided again on windows of the frame at twice the scale.
 //! * [`distinct`]: distinct colours for the tracks of a class whose objects never share one.
 //! * [`evaluation`]: perception metrics against ground truth (mask and box AP, attribute
 //!   accuracy, identity switches).
@@ -25,6 +26,7 @@
 pub mod assignment;
 pub mod camera;
 pub mod classes;
+pub mod closer;
 pub mod color;
 pub mod detection;
 pub mod detector;

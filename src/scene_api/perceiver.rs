@@ -29,6 +29,7 @@ use super::scene::PerceptionModels;
 use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
 use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
+use crate::perception::closer::look_closer;
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::Detection;
 use crate::perception::detector::{Detector, DetectorConfig};
@@ -41,6 +42,9 @@ use crate::perception::tracking::{Track, TrackerConfig, track};
 pub const FRAME_STEP: usize = 10;
 /// The last frame it runs on (0-based; 2 s at the release's 30 fps).
 pub const LAST_FRAME: usize = 60;
+/// The first-pass frames whose objects of a class with rivals are looked at again on windows
+/// at twice the scale (`perception::closer`): three frames spread over the pass, as measured.
+const CLOSER_LOOK_FRAMES: [usize; 3] = [0, 30, 60];
 /// Least box IoU for a track to name an annotated object.
 const MIN_BINDING_IOU: f64 = 0.3;
 
@@ -234,10 +238,23 @@ impl Perceiver {
         let wanted = self.first_frames();
         let (per_frame, frames) = self.detect(&wanted, true)?;
         let mut first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
-        with_models(&self.models, self.classes, |detector, colors| {
+        let vocabulary = self.vocabulary;
+        let windows = with_models(&self.models, self.classes, |detector, colors| {
+            let table = detector.classes().clone();
+            let rivals = |a: Class, b: Class| rival_classes(&table, vocabulary, a, b);
+            let windows = look_closer(
+                &mut first,
+                &per_frame,
+                &frames,
+                &CLOSER_LOOK_FRAMES,
+                detector,
+                &rivals,
+            )
+            .map_err(unavailable)?;
             separate_class_colors(&mut first, &per_frame, &frames, colors, detector.classes());
-            Ok(())
+            Ok(windows)
         })?;
+        self.work.1 += windows;
         self.first = first;
         self.kept = per_frame.into_iter().collect();
         Ok(frames)
@@ -380,11 +397,8 @@ fn bind_to_annotation(
         let (_, class, _, annotated) = candidates
             .iter()
             .find(|c| c.0 == names[n] && c.2 == frame)?;
-        let grouped = vocabulary.kind_groups.iter().any(|group| {
-            group.kinds.contains(&table.kind(*class))
-                && group.kinds.contains(&table.kind(tracks[t].class))
-        });
-        if !class.same_kind(tracks[t].class) && !grouped {
+        let track_class = tracks[t].class;
+        if *class != track_class && !rival_classes(table, vocabulary, *class, track_class) {
             return None;
         }
         let overlap = box_iou(seen, *annotated);
@@ -393,6 +407,19 @@ fn bind_to_annotation(
     .into_iter()
     .map(|bound| bound.map(|n| names[n].clone()))
     .collect()
+}
+
+/// Whether classes `a` and `b` are alternatives for one object: two classes of one kind (a
+/// solid and a hollow pulley), or of two kinds one group word of the vocabulary names (rope's
+/// loads: a cube or a sphere).
+fn rival_classes(table: &ClassTable, vocabulary: &Vocabulary, a: Class, b: Class) -> bool {
+    if a == b {
+        return false;
+    }
+    a.same_kind(b)
+        || vocabulary.kind_groups.iter().any(|group| {
+            group.kinds.contains(&table.kind(a)) && group.kinds.contains(&table.kind(b))
+        })
 }
 
 /// Per track of the full pass, the first-pass track it shares most detections with (the first

@@ -212,12 +212,12 @@ fn demo_results_under_every_backend_pair_are_unchanged() {
         (
             "maskrcnn",
             "annotation",
-            "0f3e145d8ff0249cd96ce8849dbcb3cabbc4ed1327259b3bb4971590d5292532",
+            "424263f1ba81db5e3ba3a3309a676bdc4b1e6f42cbff6f692dade69934acb4a0",
         ),
         (
             "maskrcnn",
             "simulate",
-            "9ae0ce53019645c1fe840b53a47c35b136f8fa282ad9fcacb439f6ae25568d7e",
+            "5750bd4fc9fabeab9d2005f2d720e606f296afb1dd5de07aad09149b2a784b9a",
         ),
     ];
     let out = tempfile::tempdir().unwrap();

@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 use std::sync::{Mutex, OnceLock, PoisonError};
 
 mod evidence;
+mod hanging;
 mod inference_bench;
 mod masses;
 mod mechanism_check;

@@ -21,6 +21,7 @@
 use indexmap::IndexMap;
 
 use super::evidence::{FrameReader, loose_ends};
+use super::hanging::missed_connections;
 use super::topology::{Node, NodeKind, RopePath, distance};
 use crate::dataset::rope::{RopeAnnotation, world};
 use crate::dataset::{Camera, FourDData, RigidBodyTrack, SoftBodyTrack};
@@ -409,12 +410,19 @@ pub(crate) fn perceive_rope(
         .enumerate()
         .map(|(k, node)| (node, format!("Unknown Fixed Point (2 {k})")))
         .collect();
+    // A movable pulley no read rope ends at, with a load on no rope straight under it: the
+    // short connection rope between them is there even if the detector missed it.
+    let read_paths: Vec<&RopePath> = paths.iter().flatten().collect();
+    let connections: Vec<(String, RopePath)> = missed_connections(&nodes, &read_paths)
+        .into_iter()
+        .enumerate()
+        .map(|(k, path)| (format!("Unknown Rope (2 {k})"), path))
+        .collect();
     assemble(
         names,
         &nodes,
         (&node_track, &loose),
-        &ropes,
-        &paths,
+        (&ropes, &paths, &connections),
         camera,
         frame_count,
     )
@@ -429,14 +437,21 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
     i
 }
 
-/// Writes the read paths as release-format annotation and 4-D data.
-#[allow(clippy::too_many_arguments)]
+/// The ropes of a scene as [`assemble`] takes them: the rope tracks with their first detection,
+/// the path read for each (`None`: not read), and the connection ropes added (name, path).
+type ReadRopes<'a, 'd> = (
+    &'a [(usize, &'d Detection)],
+    &'a [Option<RopePath>],
+    &'a [(String, RopePath)],
+);
+
+/// Writes the read paths (and the connection ropes added under movable pulleys) as
+/// release-format annotation and 4-D data.
 fn assemble(
     names: Vec<Option<String>>,
     nodes: &[Node],
     (node_track, loose): (&[usize], &[(usize, String)]),
-    ropes: &[(usize, &Detection)],
-    paths: &[Option<RopePath>],
+    (ropes, paths, connections): ReadRopes<'_, '_>,
     camera: &Camera,
     frame_count: usize,
 ) -> PerceivedRope {
@@ -458,6 +473,7 @@ fn assemble(
         .iter()
         .zip(paths)
         .filter_map(|((track, _), path)| Some((name_of(*track), path.as_ref()?)))
+        .chain(connections.iter().map(|(name, path)| (name.clone(), path)))
         .collect();
     let (related_groups, related_groups_in_rope) =
         group_listings(&read, &rope_groups(&read), &node_name);
@@ -748,8 +764,7 @@ mod tests {
             names,
             &nodes,
             (&node_track, &[]),
-            &ropes,
-            &read,
+            (&ropes, &read, &[]),
             &camera,
             150,
         );
@@ -855,8 +870,7 @@ mod tests {
             names.iter().map(|n| Some((*n).to_string())).collect(),
             &nodes,
             (&[0, 1, 2, 3, 4], &[]),
-            &ropes,
-            &[Some(main), Some(side)],
+            (&ropes, &[Some(main), Some(side)], &[]),
             &camera,
             150,
         );
