@@ -55,17 +55,7 @@ pub(super) fn loose_ends(
     };
     let mut found: Vec<Node> = Vec::new();
     for (_, detection) in ropes {
-        let mut top: Option<(u32, u32)> = None;
-        let mut bottom: Option<(u32, u32)> = None;
-        for (x, y) in detection.mask.pixels() {
-            if top.is_none_or(|(_, ty)| y < ty) {
-                top = Some((x, y));
-            }
-            if bottom.is_none_or(|(_, by)| y >= by) {
-                bottom = Some((x, y));
-            }
-        }
-        for (x, y) in [top, bottom].into_iter().flatten() {
+        for (x, y) in mask_ends(&detection.mask, reach) {
             let Some(centre) = lift(model, camera, f64::from(x) + 0.5, f64::from(y) + 0.5) else {
                 continue;
             };
@@ -84,6 +74,44 @@ pub(super) fn loose_ends(
         }
     }
     found
+}
+
+/// Where a rope's mask may end: its top and bottom pixels, and the top and bottom pixels of its
+/// left and right halves (split at the middle of its box) that lie at least `clearance` pixels
+/// from the split: a rope hanging in a U from two fixed points has an end at the top of each
+/// arm, only one of which is the top of the whole mask, while a sloping rope's halves have
+/// their extremes at the split, where no rope ends.
+fn mask_ends(mask: &InstanceMask, clearance: u32) -> Vec<(u32, u32)> {
+    let (Some(left), Some(right)) = (
+        mask.pixels().map(|(x, _)| x).min(),
+        mask.pixels().map(|(x, _)| x).max(),
+    ) else {
+        return Vec::new();
+    };
+    let split = left + (right - left) / 2;
+    // Top and bottom of the whole mask, of its left half and of its right half.
+    let mut extremes: [[Option<(u32, u32)>; 2]; 3] = [[None; 2]; 3];
+    for (x, y) in mask.pixels() {
+        for part in [0, if x < split { 1 } else { 2 }] {
+            let [top, bottom] = &mut extremes[part];
+            if top.is_none_or(|(_, ty)| y < ty) {
+                *top = Some((x, y));
+            }
+            if bottom.is_none_or(|(_, by)| y >= by) {
+                *bottom = Some((x, y));
+            }
+        }
+    }
+    let clear = |(x, _): &(u32, u32)| x.abs_diff(split) >= clearance;
+    let mut ends: Vec<(u32, u32)> = extremes[0].iter().flatten().copied().collect();
+    for half in &extremes[1..] {
+        for end in half.iter().flatten() {
+            if clear(end) && !ends.contains(end) {
+                ends.push(*end);
+            }
+        }
+    }
+    ends
 }
 
 /// Reads the ropes of one frame.
@@ -300,6 +328,30 @@ mod tests {
     use crate::scene_api::rope::perceived::camera_model;
     use crate::scene_api::rope::simulation::tests::sample;
     use std::collections::BTreeMap;
+
+    /// A mask of `width × height` from the pixels `inside` says are set.
+    fn drawn(width: u32, height: u32, inside: impl Fn(u32, u32) -> bool) -> InstanceMask {
+        let bits = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .map(|(x, y)| inside(x, y))
+            .collect();
+        InstanceMask::new(0, 0, width, height, bits).expect("a mask")
+    }
+
+    #[test]
+    fn a_rope_hanging_in_a_u_ends_at_the_top_of_each_arm_and_a_sloping_one_at_its_extremes() {
+        // Two arms 3 pixels wide, the left one from row 10 down, the right one from row 0,
+        // joined by rows 95–99.
+        let u = drawn(100, 100, |x, y| x < 3 && y >= 10 || x >= 97 || y >= 95);
+        let ends = mask_ends(&u, 20);
+        assert!(ends.contains(&(97, 0)), "{ends:?}");
+        assert!(ends.contains(&(0, 10)), "{ends:?}");
+        // A diagonal: the halves' extremes sit at the split, where the rope does not end.
+        let slope = drawn(100, 100, |x, y| x.abs_diff(99 - y) <= 1);
+        let ends = mask_ends(&slope, 20);
+        assert_eq!(ends.len(), 2, "{ends:?}");
+        assert!(ends.iter().all(|(_, y)| *y == 0 || *y == 99), "{ends:?}");
+    }
 
     fn detection(class: &str, mask: InstanceMask) -> Detection {
         Detection {

@@ -44,6 +44,10 @@ const COVER_RADIUS: f64 = 0.35;
 /// least a load's width apart).
 pub(super) const SAME_OBJECT_DISTANCE: f64 = 0.9;
 
+/// Share of a detection's mask that two or more surer objects of its kind must cover for it to
+/// be those objects seen as one ([`spans_two`]).
+const SPANNED_SHARE: f64 = 0.8;
+
 /// The mechanism read from pixels.
 #[derive(Debug, Clone)]
 pub(crate) struct PerceivedRope {
@@ -268,6 +272,7 @@ fn place_tracks<'a>(
                         .nodes
                         .iter()
                         .any(|node| distance(node.centre, centre) < SAME_OBJECT_DISTANCE)
+                    && !spans_two(detection, point.frame, &placed, pass)
                 {
                     placed.nodes.push(Node { kind, centre });
                     placed.node_track.push(index);
@@ -281,6 +286,43 @@ fn place_tracks<'a>(
         }
     }
     placed
+}
+
+/// Whether `detection` (of frame `frame`) is two surer objects of its kind seen as one: its
+/// mask overlaps the masks of at least two placed nodes of its kind in that frame, which
+/// together cover [`SPANNED_SHARE`] of it (the detector sometimes adds a pulley box round two
+/// pulleys that touch, centred between them, where no pulley is).
+fn spans_two(
+    detection: &Detection,
+    frame: usize,
+    placed: &Placed<'_>,
+    pass: &FirstPass<'_>,
+) -> bool {
+    let masks: Vec<&Detection> = placed
+        .node_track
+        .iter()
+        .filter_map(|&track| {
+            let point = pass.tracks[track].at_frame(frame)?;
+            pass.detections.get(&frame)?.get(point.detection)
+        })
+        .filter(|other| {
+            other.class.same_kind(detection.class)
+                && detection
+                    .mask
+                    .pixels()
+                    .any(|(x, y)| other.mask.contains(x, y))
+        })
+        .collect();
+    if masks.len() < 2 {
+        return false;
+    }
+    let area = detection.mask.area();
+    let covered = detection
+        .mask
+        .pixels()
+        .filter(|&(x, y)| masks.iter().any(|other| other.mask.contains(x, y)))
+        .count();
+    area > 0 && covered as f64 >= SPANNED_SHARE * area as f64
 }
 
 /// Pixels per [`COVER_RADIUS`] round the middle of the scene (at least 1.5), for how far a
@@ -700,6 +742,78 @@ mod tests {
             .of_object(name)
             .and_then(|class| node_kind(table.name(class)))
             .unwrap()
+    }
+
+    /// A detection of `class` whose mask is the rectangle `[x0, x1) × [0, 10)` of frame 0.
+    fn block(class: &str, x0: u32, x1: u32) -> Detection {
+        let mask = InstanceMask::new(x0, 0, x1 - x0, 10, vec![true; (x1 - x0) as usize * 10])
+            .expect("a mask");
+        Detection {
+            frame: 0,
+            class: crate::perception::rope::test_class(class),
+            score: 1.0,
+            bbox: [x0 as f32, 0.0, x1 as f32, 10.0],
+            mask,
+            color: None,
+        }
+    }
+
+    #[test]
+    fn a_pulley_box_round_two_placed_pulleys_is_not_a_third_pulley() {
+        let pulley = "solid static pulley";
+        let found = vec![
+            block(pulley, 0, 10),
+            block(pulley, 10, 20),
+            block("hollow static pulley", 2, 18),
+            block("cube", 2, 18),
+            block(pulley, 5, 30),
+        ];
+        let tracks: Vec<Track> = found
+            .iter()
+            .enumerate()
+            .map(|(index, detection)| Track {
+                id: index as u32,
+                class: detection.class,
+                color: None,
+                observations: vec![TrackPoint {
+                    frame: 0,
+                    detection: index,
+                    centroid: [0.0; 2],
+                    bbox: detection.bbox,
+                }],
+            })
+            .collect();
+        let classes = ClassTable::of_scenario(PERCEPTION.classes);
+        let detections = std::collections::BTreeMap::from([(0, found.clone())]);
+        let pass = FirstPass {
+            classes: &classes,
+            tracks: &tracks,
+            detections: &detections,
+            size: (40, 10),
+            frame_count: 1,
+        };
+        let node = Node {
+            kind: NodeKind::StaticPulley { solid: true },
+            centre: [0.0; 2],
+        };
+        let placed = Placed {
+            nodes: vec![node, node],
+            node_track: vec![0, 1],
+            ropes: Vec::new(),
+        };
+        // Covered by the two placed pulleys: the two seen as one.
+        assert!(spans_two(&found[2], 0, &placed, &pass));
+        // Not a pulley: a cube there is its own object.
+        assert!(!spans_two(&found[3], 0, &placed, &pass));
+        // Overlapping both, but a third of it outside them: an object of its own.
+        assert!(!spans_two(&found[4], 0, &placed, &pass));
+        // With one pulley placed, nothing spans two.
+        let one = Placed {
+            nodes: vec![node],
+            node_track: vec![0],
+            ropes: Vec::new(),
+        };
+        assert!(!spans_two(&found[2], 0, &one, &pass));
     }
 
     fn rope_detection() -> Detection {
