@@ -772,7 +772,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(index, detection)| Track {
-                id: index as u32,
+                id: u32::try_from(index).unwrap(),
                 class: detection.class,
                 color: None,
                 observations: vec![TrackPoint {
