@@ -21,7 +21,7 @@
 use std::collections::BTreeMap;
 
 use super::classes::Class;
-use super::detection::Detection;
+use super::detection::{Detection, box_iou};
 use super::detector::{Detector, DetectorError};
 use super::frames::RgbFrame;
 use super::tracking::Track;
@@ -233,7 +233,13 @@ pub fn look_closer(
                 .filter(|(class, _, _)| {
                     *class == tracks[t].class || rivals(tracks[t].class, *class)
                 })
-                .map(|(class, score, bbox)| (class, score, box_iou(*bbox, detection.bbox)))
+                .map(|(class, score, bbox)| {
+                    (
+                        class,
+                        score,
+                        box_iou(bbox.map(f64::from), detection.bbox.map(f64::from)),
+                    )
+                })
                 .filter(|(_, _, overlap)| *overlap >= MIN_VOTE_IOU)
                 .max_by(|a, b| a.2.total_cmp(&b.2));
             if let Some((class, score, _)) = closest {
@@ -247,20 +253,6 @@ pub fn look_closer(
         }
     }
     Ok(windows_run)
-}
-
-fn box_iou(a: [f32; 4], b: [f32; 4]) -> f64 {
-    let [a, b] = [a.map(f64::from), b.map(f64::from)];
-    let width = (a[2].min(b[2]) - a[0].max(b[0])).max(0.0);
-    let height = (a[3].min(b[3]) - a[1].max(b[1])).max(0.0);
-    let intersection = width * height;
-    let area = |r: [f64; 4]| (r[2] - r[0]).max(0.0) * (r[3] - r[1]).max(0.0);
-    let union = area(a) + area(b) - intersection;
-    if union > 0.0 {
-        intersection / union
-    } else {
-        0.0
-    }
 }
 
 #[cfg(test)]

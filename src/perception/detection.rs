@@ -179,6 +179,27 @@ pub struct Detection {
     pub color: Option<u8>,
 }
 
+/// IoU of two `[x0, y0, x1, y1]` boxes; 0 for empty, inverted or non-finite ones.
+pub fn box_iou(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let area = |r: [f64; 4]| (r[2] - r[0]).max(0.0) * (r[3] - r[1]).max(0.0);
+    if !a.iter().chain(&b).all(|v| v.is_finite()) {
+        return 0.0;
+    }
+    let inner = [
+        a[0].max(b[0]),
+        a[1].max(b[1]),
+        a[2].min(b[2]),
+        a[3].min(b[3]),
+    ];
+    let intersection = area(inner);
+    let union = area(a) + area(b) - intersection;
+    if union > 0.0 {
+        intersection / union
+    } else {
+        0.0
+    }
+}
+
 /// Mask overlap (intersection over union) above which two detections are one object whatever
 /// their classes: the model's NMS is per class, so one pulley can come out as a solid and as a
 /// hollow one, or a cube also as a sphere.
@@ -221,6 +242,12 @@ pub fn suppress_duplicates(mut detections: Vec<Detection>) -> Vec<Detection> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn box_overlap_is_intersection_over_union() {
+        assert!((box_iou([0.0, 0.0, 2.0, 2.0], [1.0, 0.0, 3.0, 2.0]) - 1.0 / 3.0).abs() < 1e-12);
+        assert!(box_iou([0.0, 0.0, 1.0, 1.0], [2.0, 2.0, 3.0, 3.0]).abs() < 1e-12);
+    }
 
     fn detection(class: &str, score: f32, mask: InstanceMask) -> Detection {
         Detection {

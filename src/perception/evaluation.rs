@@ -30,7 +30,7 @@ use serde::Serialize;
 
 use super::assignment::assign;
 use super::classes::{Class, ClassTable};
-use super::detection::{Detection, InstanceMask};
+use super::detection::{Detection, InstanceMask, box_iou};
 use super::tracking::Track;
 
 /// IoU at which a detection counts as the same object as a truth instance, for attribute and
@@ -195,27 +195,6 @@ fn mask_iou(a: &InstanceMask, area_a: u64, b: &InstanceMask, area_b: u64) -> f64
         0.0
     } else {
         intersection as f64 / union as f64
-    }
-}
-
-/// IoU of two `[x0, y0, x1, y1]` boxes; 0 for empty, inverted or non-finite ones.
-fn box_iou(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let area = |r: [f64; 4]| (r[2] - r[0]).max(0.0) * (r[3] - r[1]).max(0.0);
-    if !a.iter().chain(&b).all(|v| v.is_finite()) {
-        return 0.0;
-    }
-    let inner = [
-        a[0].max(b[0]),
-        a[1].max(b[1]),
-        a[2].min(b[2]),
-        a[3].min(b[3]),
-    ];
-    let intersection = area(inner);
-    let union = area(a) + area(b) - intersection;
-    if union > 0.0 {
-        intersection / union
-    } else {
-        0.0
     }
 }
 

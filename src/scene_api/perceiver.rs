@@ -31,7 +31,7 @@ use crate::perception::assignment::assign;
 use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
 use crate::perception::closer::look_closer;
 use crate::perception::color::{ColorModel, name_colors};
-use crate::perception::detection::Detection;
+use crate::perception::detection::{Detection, box_iou};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::distinct::separate_class_colors;
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
@@ -439,28 +439,4 @@ fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
         let count = shared(&tracks[t], &first[f]);
         (count > 0).then(|| 1.0 / count as f64)
     })
-}
-
-fn box_iou(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let width = (a[2].min(b[2]) - a[0].max(b[0])).max(0.0);
-    let height = (a[3].min(b[3]) - a[1].max(b[1])).max(0.0);
-    let intersection = width * height;
-    let area = |r: [f64; 4]| (r[2] - r[0]).max(0.0) * (r[3] - r[1]).max(0.0);
-    let union = area(a) + area(b) - intersection;
-    if union > 0.0 {
-        intersection / union
-    } else {
-        0.0
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn box_overlap_is_intersection_over_union() {
-        assert!((box_iou([0.0, 0.0, 2.0, 2.0], [1.0, 0.0, 3.0, 2.0]) - 1.0 / 3.0).abs() < 1e-12);
-        assert!(box_iou([0.0, 0.0, 1.0, 1.0], [2.0, 2.0, 3.0, 3.0]).abs() < 1e-12);
-    }
 }

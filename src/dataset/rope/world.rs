@@ -39,6 +39,9 @@ pub const PULL_ANCHOR_DISTANCE: f64 = 7.0;
 pub const STATIC_PULLEY_KG: f64 = 1.0;
 /// Mass of a movable pulley, kg.
 pub const MOVABLE_PULLEY_KG: f64 = 0.005;
+/// How far below a movable pulley's axle the load on its connection rope hangs (centre to
+/// centre), units.
+pub const CONNECTION_DROP: f64 = 4.0;
 /// Disc radius of a solid ("little") pulley, units.
 pub const SOLID_PULLEY_RADIUS: f64 = 1.74;
 /// Disc radius of a hollow ("big") pulley, units.

@@ -13,10 +13,7 @@
 //! add, as paths.
 
 use super::topology::{Node, NodeKind, RopePath};
-
-/// How far below its pulley's axle the release hangs a load's centre, units (the generator's
-/// `add_hanging_loads` uses the same drop).
-pub(super) const CONNECTION_DROP: f64 = 4.0;
+use crate::dataset::rope::world::CONNECTION_DROP;
 
 /// How far the load's centre may be from [`CONNECTION_DROP`] below the axle, across and along
 /// the rope, units: the centres are mask centroids lifted onto the scene plane (a few tenths of
