@@ -298,7 +298,10 @@ fn add_hanging_loads(
     for element in &rope.path {
         if let Some((load_name, connection)) = &element.hanging {
             let load = load_index(layout, load_name).ok_or_else(|| missing(load_name))?;
-            let below = [element.position[0], element.position[1] - world::CONNECTION_DROP];
+            let below = [
+                element.position[0],
+                element.position[1] - world::CONNECTION_DROP,
+            ];
             let body = add_body(
                 model,
                 load_name,
