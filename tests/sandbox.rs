@@ -324,6 +324,33 @@ fn units_of_one_key_run_in_order_on_one_worker_with_one_host() {
 }
 
 #[test]
+fn a_worker_starts_with_its_listed_variables_and_no_others() {
+    // A fake worker that answers with its own environment, which the parent reports as an
+    // unparsable line: the listed variable is there, one of the parent's (cargo sets it for
+    // every test process) is not.
+    let script = r#"echo '{"event":"ready","pid":1,"interpreter_build_ms":null}'; read request; echo "kept=$CONTPHY_KEPT parent=$CARGO_MANIFEST_DIR."; exit 3"#;
+    let mut config = PoolConfig::new(
+        WorkerCommand {
+            program: "/bin/sh".into(),
+            arguments: vec!["-c".into(), script.into(), "fake-worker".into()],
+            environment: vec![("CONTPHY_KEPT".into(), "yes".into())],
+        },
+        1,
+    );
+    config.ready_timeout = Duration::from_secs(10);
+    assert!(std::env::var_os("CARGO_MANIFEST_DIR").is_some_and(|value| !value.is_empty()));
+    let pool = Pool::start(config).unwrap();
+    pool.submit(unit(1, "v", HEALTHY, budgets())).unwrap();
+    let result = pool.recv().unwrap();
+    match &result.report.outcome {
+        Err(Error::Internal { message }) => {
+            assert!(message.contains("kept=yes parent=."), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
 fn unparsable_worker_output_fails_the_unit_without_a_panic() {
     // A fake worker: says `ready`, then answers the request with garbage (text, then bytes that
     // are not UTF-8) and exits.
@@ -332,6 +359,7 @@ fn unparsable_worker_output_fails_the_unit_without_a_panic() {
         WorkerCommand {
             program: "/bin/sh".into(),
             arguments: vec!["-c".into(), script.into(), "fake-worker".into()],
+            environment: Vec::new(),
         },
         1,
     );
@@ -351,6 +379,7 @@ fn unparsable_worker_output_fails_the_unit_without_a_panic() {
         WorkerCommand {
             program: "/bin/sh".into(),
             arguments: vec!["-c".into(), script.into(), "fake-worker".into()],
+            environment: Vec::new(),
         },
         1,
     );

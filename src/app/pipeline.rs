@@ -64,7 +64,13 @@ fn seconds_to_ms(seconds: f64) -> u64 {
 
 /// Starts a pool of `jobs` workers (this binary) with the run's memory limit.
 pub(crate) fn start_pool(jobs: usize, budgets: Budgets) -> Result<Pool, AppError> {
-    let worker = WorkerCommand::current_exe().internal()?;
+    let mut worker = WorkerCommand::current_exe().internal()?;
+    // The workers host the scene API, and with it perception: they must find ONNX Runtime
+    // where the user said it is.
+    let variable = crate::perception::runtime::DYLIB_VARIABLE;
+    if let Some(value) = std::env::var_os(variable) {
+        worker.environment.push((variable.into(), value));
+    }
     let mut config = PoolConfig::new(worker, jobs.max(1));
     config.limits.address_space_bytes = budgets.memory_mib.saturating_mul(1024 * 1024);
     Pool::start(config).internal()

@@ -56,6 +56,10 @@ pub struct WorkerCommand {
     pub program: PathBuf,
     /// Arguments before the limits argument; normally just [`WORKER_ARGUMENT`].
     pub arguments: Vec<OsString>,
+    /// The only environment variables the worker starts with: its environment is cleared so
+    /// that nothing of the user's shell reaches the sandbox, but the scene API it hosts may need
+    /// a few (where ONNX Runtime is).
+    pub environment: Vec<(OsString, OsString)>,
 }
 
 impl WorkerCommand {
@@ -64,6 +68,7 @@ impl WorkerCommand {
         Self {
             program: program.into(),
             arguments: vec![WORKER_ARGUMENT.into()],
+            environment: Vec::new(),
         }
     }
 
@@ -452,6 +457,7 @@ impl WorkerProcess {
             .args(&config.worker.arguments)
             .arg(limits)
             .env_clear()
+            .envs(config.worker.environment.iter().cloned())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
