@@ -8,7 +8,9 @@ two summed, over a few frames per video.
 DATA_ROOT holds pulley_group/<id>/{output_Full.mp4,outputs.json} (generated 1920x1080 videos).
 Per object, each look votes with the detector's score for the class of the detection that
 overlaps the annotated box most (IoU >= 0.5, among the rival classes); the class with the
-largest sum wins. Prints the counts right per look and the objects each look got wrong.
+largest sum wins; two other weightings are counted too: `window_twice` (the window's votes
+count double) and `window_first` (the window's vote, the whole frame's only where the window has
+none). Prints the counts right per look and the objects each look got wrong.
 Needs numpy, onnxruntime and ffmpeg on PATH.
 """
 import argparse
@@ -107,7 +109,14 @@ def main():
                 for label, score in look.items():
                     both[label] += score
             total += 1
-            for name, tally in (("whole", looks["whole"]), ("window", looks["window"]), ("both", both)):
+            double = defaultdict(float)
+            for label, score in looks["whole"].items():
+                double[label] += score
+            for label, score in looks["window"].items():
+                double[label] += 2 * score
+            window_first = {k: v for k, v in looks["window"].items() if k} or looks["whole"]
+            for name, tally in (("whole", looks["whole"]), ("window", looks["window"]), ("both", both),
+                                ("window_twice", double), ("window_first", window_first)):
                 tally = {k: v for k, v in tally.items() if k}
                 pick = max(tally, key=tally.get) if tally else 0
                 right[name] += pick == truth

@@ -29,7 +29,7 @@ const TOUCH_SHARE: f64 = 0.03;
 /// object's mask in that frame touches the end.
 pub(super) fn loose_ends(
     pass: &FirstPass<'_>,
-    ropes: &[(usize, &Detection)],
+    (ropes, frames): (&[(usize, &Detection)], &[RgbFrame]),
     nodes: &[Node],
     model: &CameraModel,
     camera: &Camera,
@@ -55,7 +55,12 @@ pub(super) fn loose_ends(
     };
     let mut found: Vec<Node> = Vec::new();
     for (_, detection) in ropes {
-        for (x, y) in mask_ends(&detection.mask, reach) {
+        // The rope's pixels in its frame, to follow each end past the coarse mask.
+        let frame = frames.iter().find(|f| f.index == detection.frame);
+        let (wall, occupied) = frame.map_or((None, Vec::new()), |f| pass.frame_context(f));
+        let evidence = RopeEvidence::new(detection, frame.zip(wall), &occupied);
+        for end in mask_ends(&detection.mask, reach) {
+            let (x, y) = follow_end(&evidence, end, reach);
             let Some(centre) = lift(model, camera, f64::from(x) + 0.5, f64::from(y) + 0.5) else {
                 continue;
             };
@@ -76,11 +81,12 @@ pub(super) fn loose_ends(
     found
 }
 
-/// Where a rope's mask may end: its top and bottom pixels, and the top and bottom pixels of its
+/// Where a rope's mask may end: its top and bottom pixels, the top and bottom pixels of its
 /// left and right halves (split at the middle of its box) that lie at least `clearance` pixels
-/// from the split: a rope hanging in a U from two fixed points has an end at the top of each
-/// arm, only one of which is the top of the whole mask, while a sloping rope's halves have
-/// their extremes at the split, where no rope ends.
+/// from the split, and its tips ([`mask_tips`]) away from those: a rope hanging in a U from two
+/// fixed points has an end at the top of each arm, only one of which is the top of the whole
+/// mask, and an arm beside a longer one ends inside the mask's box; a sloping rope's halves
+/// have their extremes at the split, where the rope runs on both ways and does not end.
 fn mask_ends(mask: &InstanceMask, clearance: u32) -> Vec<(u32, u32)> {
     let (Some(left), Some(right)) = (
         mask.pixels().map(|(x, _)| x).min(),
@@ -111,7 +117,170 @@ fn mask_ends(mask: &InstanceMask, clearance: u32) -> Vec<(u32, u32)> {
             }
         }
     }
+    // Tips inside the box, away from every end found so far.
+    for tip in mask_tips(mask, clearance) {
+        let known = ends
+            .iter()
+            .any(|end| end.0.abs_diff(tip.0) <= clearance && end.1.abs_diff(tip.1) <= clearance);
+        if !known {
+            ends.push(tip);
+        }
+    }
     ends
+}
+
+/// Where the mask leaves the square of half-size `radius` round `at` when it crosses the
+/// square's border in one run of pixels only, as a rope does round its end (round a point along
+/// it, it crosses twice: in and out): the mean of that run's pixels (`None` for no run or
+/// several). Pixels outside the frame count as outside the mask.
+fn exit_point(mask: &InstanceMask, at: (u32, u32), radius: u32) -> Option<[f64; 2]> {
+    if radius == 0 {
+        return None;
+    }
+    let (x, y) = (i64::from(at.0), i64::from(at.1));
+    let r = i64::from(radius);
+    // The square's border, clockwise from its top-left corner, each pixel once.
+    let border: Vec<(i64, i64)> = (0..2 * r)
+        .map(|k| (x - r + k, y - r))
+        .chain((0..2 * r).map(|k| (x + r, y - r + k)))
+        .chain((0..2 * r).map(|k| (x + r - k, y + r)))
+        .chain((0..2 * r).map(|k| (x - r, y + r - k)))
+        .collect();
+    let inside: Vec<bool> = border
+        .iter()
+        .map(|&(px, py)| match (u32::try_from(px), u32::try_from(py)) {
+            (Ok(px), Ok(py)) => mask.contains(px, py),
+            _ => false,
+        })
+        .collect();
+    let count = inside.len();
+    // Runs: places where the border steps from outside into the mask (cyclically).
+    let mut starts = (0..count).filter(|&k| inside[k] && !inside[(k + count - 1) % count]);
+    let first = starts.next()?;
+    if starts.next().is_some() {
+        return None;
+    }
+    let run: Vec<(i64, i64)> = (0..count)
+        .map(|k| (first + k) % count)
+        .take_while(|&k| inside[k])
+        .map(|k| border[k])
+        .collect();
+    let n = run.len() as f64;
+    let sum = run.iter().fold([0.0, 0.0], |acc, &(px, py)| {
+        [acc[0] + px as f64, acc[1] + py as f64]
+    });
+    Some([sum[0] / n, sum[1] / n])
+}
+
+/// Farthest a rope end is followed past its mask along the rope's pixels, in multiples of the
+/// touch reach (3 × 33 pixels at 1080p, about 3 units): the detector's mask of a long rope is
+/// 28 × 28 cells over its box, so an end can stop a cell (tens of pixels) short of the rope's.
+const END_FOLLOW_REACHES: u32 = 3;
+/// Half-width of the band across the rope in which its pixels are looked for while following
+/// an end, pixels (a rope is about 8 pixels wide at 1080p, and an end pixel of its mask can be
+/// off its centre line).
+const END_FOLLOW_BAND: i64 = 3;
+/// Longest run without rope pixels that following an end steps over, pixels.
+const END_FOLLOW_GAP: u32 = 3;
+
+/// Where the rope whose mask ends at `end` really ends: from `end`, away from where the mask
+/// leaves the square round it ([`exit_point`]), as far as the rope's pixels (mask or colour)
+/// go on. `end` itself when the mask does not end there as a rope does.
+fn follow_end(evidence: &RopeEvidence, end: (u32, u32), reach: u32) -> (u32, u32) {
+    let Some(exit) = exit_point(&evidence.mask, end, reach) else {
+        return end;
+    };
+    let (x, y) = (f64::from(end.0), f64::from(end.1));
+    let (dx, dy) = (x - exit[0], y - exit[1]);
+    let norm = dx.hypot(dy);
+    if norm < 1.0 {
+        return end;
+    }
+    let (ux, uy) = (dx / norm, dy / norm);
+    // Walk one pixel at a time along the direction, re-centred on the rope's pixels found
+    // across it at each step (the direction from a coarse mask is a few degrees off).
+    let (mut px, mut py) = (x, y);
+    let (mut end_x, mut end_y) = (x, y);
+    let mut since = 0;
+    for _ in 0..END_FOLLOW_REACHES * reach {
+        if since >= END_FOLLOW_GAP {
+            break;
+        }
+        px += ux;
+        py += uy;
+        let across: Vec<f64> = (-END_FOLLOW_BAND..=END_FOLLOW_BAND)
+            .map(|k| k as f64)
+            .filter(|k| {
+                let (qx, qy) = ((px - uy * k).round(), (py + ux * k).round());
+                qx >= 0.0 && qy >= 0.0 && evidence.at(pixel(qx), pixel(qy)) != Sample::Missed
+            })
+            .collect();
+        if across.is_empty() {
+            since += 1;
+            continue;
+        }
+        let shift = across.iter().sum::<f64>() / across.len() as f64;
+        px -= uy * shift;
+        py += ux * shift;
+        (end_x, end_y) = (px, py);
+        since = 0;
+    }
+    if !(end_x.is_finite() && end_y.is_finite()) {
+        return end;
+    }
+    (pixel(end_x.round().max(0.0)), pixel(end_y.round().max(0.0)))
+}
+
+/// A non-negative whole pixel coordinate as `u32` (saturating).
+#[expect(
+    clippy::cast_possible_truncation,
+    clippy::cast_sign_loss,
+    reason = "non-negative whole values, saturated into u32"
+)]
+fn pixel(value: f64) -> u32 {
+    value.clamp(0.0, f64::from(u32::MAX)) as u32
+}
+
+/// The tips of a mask: where it ends as a rope does, wherever that is (the top of an arm that
+/// rises beside a longer one ends inside the mask's box, not at an extreme of it). Pixels on
+/// the mask's upper or lower edge whose square of half-size `radius` the mask leaves in one
+/// direction only ([`exit_point`]) are grouped (within `radius` of a group's first pixel), and
+/// each group gives its pixel farthest from the group's mean exit: the tip itself.
+fn mask_tips(mask: &InstanceMask, radius: u32) -> Vec<(u32, u32)> {
+    // Per group: its first pixel, and its members with their exits.
+    type Group = ((u32, u32), Vec<((u32, u32), [f64; 2])>);
+    let mut groups: Vec<Group> = Vec::new();
+    for (x, y) in mask.pixels() {
+        let edge = y == 0 || !mask.contains(x, y - 1) || !mask.contains(x, y + 1);
+        if !edge {
+            continue;
+        }
+        let Some(exit) = exit_point(mask, (x, y), radius) else {
+            continue;
+        };
+        match groups
+            .iter_mut()
+            .find(|(seed, _)| seed.0.abs_diff(x) <= radius && seed.1.abs_diff(y) <= radius)
+        {
+            Some((_, members)) => members.push(((x, y), exit)),
+            None => groups.push(((x, y), vec![((x, y), exit)])),
+        }
+    }
+    groups
+        .iter()
+        .filter_map(|(_, members)| {
+            let n = members.len() as f64;
+            let mean = members.iter().fold([0.0, 0.0], |acc, (_, exit)| {
+                [acc[0] + exit[0] / n, acc[1] + exit[1] / n]
+            });
+            let away =
+                |&(x, y): &(u32, u32)| (f64::from(x) - mean[0]).hypot(f64::from(y) - mean[1]);
+            members
+                .iter()
+                .map(|(pixel, _)| *pixel)
+                .max_by(|a, b| away(a).total_cmp(&away(b)))
+        })
+        .collect()
 }
 
 /// Reads the ropes of one frame.
@@ -132,28 +301,7 @@ impl FrameReader<'_> {
         frame: Option<&RgbFrame>,
     ) -> Vec<Option<RopePath>> {
         let (width, height) = self.pass.size;
-        let frame_detections = frame.and_then(|f| self.pass.detections.get(&f.index));
-        let wall = frame.and_then(|frame| {
-            let masks: Vec<&InstanceMask> = frame_detections
-                .map(|list| list.iter().map(|d| &d.mask).collect())
-                .unwrap_or_default();
-            wall_color(frame, &masks)
-        });
-        // The pixels of the objects that are not ropes, in this frame.
-        let mut occupied = vec![false; frame.map_or(0, |f| f.width as usize * f.height as usize)];
-        if let Some(frame) = frame {
-            for detection in frame_detections.into_iter().flatten() {
-                if self.pass.classes.name(detection.class) != "rope" {
-                    for (x, y) in detection.mask.pixels() {
-                        if let Some(slot) =
-                            occupied.get_mut(y as usize * frame.width as usize + x as usize)
-                        {
-                            *slot = true;
-                        }
-                    }
-                }
-            }
-        }
+        let (wall, occupied) = frame.map_or((None, Vec::new()), |f| self.pass.frame_context(f));
         let evidence: Vec<Option<RopeEvidence>> = ropes
             .iter()
             .map(|detection| detection.map(|d| RopeEvidence::new(d, frame.zip(wall), &occupied)))
@@ -206,6 +354,31 @@ impl FrameReader<'_> {
         // A rope not seen in this frame has no path here.
         let seen: Vec<bool> = ropes.iter().map(Option::is_some).collect();
         read_ropes(nodes, &seen, &mut covers)
+    }
+}
+
+impl FirstPass<'_> {
+    /// What the ropes' colour evidence in `frame` needs: the wall's colour, and per pixel (row
+    /// by row) whether an object that is not a rope covers it.
+    fn frame_context(&self, frame: &RgbFrame) -> (Option<[f64; 3]>, Vec<bool>) {
+        let frame_detections = self.detections.get(&frame.index);
+        let masks: Vec<&InstanceMask> = frame_detections
+            .map(|list| list.iter().map(|d| &d.mask).collect())
+            .unwrap_or_default();
+        let wall = wall_color(frame, &masks);
+        let mut occupied = vec![false; frame.width as usize * frame.height as usize];
+        for detection in frame_detections.into_iter().flatten() {
+            if self.classes.name(detection.class) != "rope" {
+                for (x, y) in detection.mask.pixels() {
+                    if let Some(slot) =
+                        occupied.get_mut(y as usize * frame.width as usize + x as usize)
+                    {
+                        *slot = true;
+                    }
+                }
+            }
+        }
+        (wall, occupied)
     }
 }
 
@@ -353,6 +526,32 @@ mod tests {
         assert!(ends.iter().all(|(_, y)| *y == 0 || *y == 99), "{ends:?}");
     }
 
+    #[test]
+    fn an_arm_ending_inside_the_box_ends_at_its_tip() {
+        // A W of ropes 3 pixels wide: the outer arms rise to the top row, a middle arm rises only
+        // to row 50, in the middle of the mask's box (no extreme of the mask or of a half), and
+        // the three are joined by rows 90-94 (the bottom of the pulleys they wrap).
+        let w = drawn(100, 100, |x, y| {
+            !(3..97).contains(&x) || (48..51).contains(&x) && y >= 50 || (90..95).contains(&y)
+        });
+        let ends = mask_ends(&w, 20);
+        assert!(
+            ends.iter().any(|&(x, y)| (48..51).contains(&x) && y == 50),
+            "{ends:?}"
+        );
+        // Round the middle arm's tip the mask leaves downwards only; halfway up an outer arm
+        // it runs on both ways, and at a T junction three ways.
+        let exit = exit_point(&w, (49, 50), 20).expect("one exit");
+        assert!(
+            (exit[0] - 49.0).abs() < 1.0 && (exit[1] - 70.0).abs() < 1e-9,
+            "{exit:?}"
+        );
+        assert!(exit_point(&w, (1, 40), 20).is_none());
+        assert!(exit_point(&w, (49, 92), 20).is_none());
+        // No rope end where the arms join the bottom rows.
+        assert!(ends.iter().all(|&(_, y)| y <= 50 || y >= 94), "{ends:?}");
+    }
+
     fn detection(class: &str, mask: InstanceMask) -> Detection {
         Detection {
             frame: 0,
@@ -392,7 +591,7 @@ mod tests {
         };
         let camera = sample().0.camera.unwrap();
         let model = camera_model(&camera, (width, height));
-        loose_ends(&pass, &[(0, &rope)], &[], &model, &camera).len()
+        loose_ends(&pass, (&[(0, &rope)], &[]), &[], &model, &camera).len()
     }
 
     #[test]

@@ -369,7 +369,7 @@ pub(crate) fn perceive_rope(
     // Where a rope's pixels end with no object to end at (a fixed point too small to be
     // detected), the rope may end there: a candidate fixed point, kept if a read rope ends on it.
     let tracked_nodes = nodes.len();
-    nodes.extend(loose_ends(pass, &ropes, &nodes, &model, camera));
+    nodes.extend(loose_ends(pass, (&ropes, frames), &nodes, &model, camera));
     let reader = FrameReader {
         pass,
         model: &model,
