@@ -128,151 +128,6 @@ pub fn crop(frame: &RgbFrame, window: Window) -> Option<RgbFrame> {
     })
 }
 
-/// Windows of `window_width × window_height` on a grid over the frame with half-window strides
-/// (the last row and column flush with the frame's edges), those that meet any box of `areas`
-/// (`[x0, y0, x1, y1]`, pixels). Any box at most half a window wide and high lies whole, clear
-/// of the inner margins, in one of them. Empty when the window does not fit in the frame.
-pub fn tiles_over(
-    frame_width: u32,
-    frame_height: u32,
-    window_width: u32,
-    window_height: u32,
-    areas: &[[f32; 4]],
-) -> Vec<Window> {
-    if window_width < 2
-        || window_height < 2
-        || window_width > frame_width
-        || window_height > frame_height
-    {
-        return Vec::new();
-    }
-    let starts = |frame: u32, window: u32| -> Vec<u32> {
-        let last = frame - window;
-        let mut starts: Vec<u32> = (0..=last).step_by((window / 2) as usize).collect();
-        if starts.last() != Some(&last) {
-            starts.push(last);
-        }
-        starts
-    };
-    let mut tiles = Vec::new();
-    for y0 in starts(frame_height, window_height) {
-        for x0 in starts(frame_width, window_width) {
-            let (x1, y1) = ((x0 + window_width) as f32, (y0 + window_height) as f32);
-            let meets = areas
-                .iter()
-                .any(|a| a[0] < x1 && a[2] > x0 as f32 && a[1] < y1 && a[3] > y0 as f32);
-            if meets {
-                tiles.push([x0, y0, window_width, window_height]);
-            }
-        }
-    }
-    tiles
-}
-
-/// The window size of a closer look at `image` for a model of `input_width × input_height`: the
-/// frame's width over [`ZOOM`], the model's aspect; `None` when it is smaller than the model's
-/// input (the window would have to be enlarged, which the model never saw).
-fn window_size(image: &RgbFrame, input_width: u32, input_height: u32) -> Option<(u32, u32)> {
-    let window_width = image.width / ZOOM;
-    let window_height = u32::try_from(
-        u64::from(input_height) * u64::from(window_width) / u64::from(input_width.max(1)),
-    )
-    .unwrap_or(u32::MAX);
-    (window_width >= input_width && window_height >= input_height)
-        .then_some((window_width, window_height))
-}
-
-/// Least score of a window detection for it to be added as an object the whole frame missed:
-/// in the experiment (`scripts/perception/window_adds.py`), the windows found 29 of the 32
-/// objects the whole frames of two generated seeds missed, 26 of them scoring above 0.85,
-/// while what they found that is no object scored 0.3 to 0.7 but for a few.
-pub const MIN_ADD_SCORE: f32 = 0.8;
-
-/// Box IoU with a detection of the whole frame (or an earlier addition) at or above which a
-/// window detection is that object again, not a missed one.
-const SAME_OBJECT_IOU: f64 = 0.3;
-
-/// Adds to the detections of the frames `frames` the objects the whole frame missed and a
-/// closer look finds: windows at twice the scale tile the frame where anything was detected
-/// ([`tiles_over`]), and each window detection shown whole, scoring at least
-/// [`MIN_ADD_SCORE`], at most half a window wide and high (ropes and other long objects are
-/// read from the whole frame) and overlapping no detection of the frame is appended to that
-/// frame's list, its box and mask in frame pixels. `name` gives the added detections of a frame
-/// their colours. Returns the number of windows the detector ran on. Small objects on a busy
-/// wall (a fixed point of the wall's colour, a grey pulley on a grey wall) are what the whole
-/// frame misses: the experiment's 32 misses were 20 fixed points and 12 pulleys.
-pub fn find_missed(
-    detections: &mut [(usize, Vec<Detection>)],
-    pixels: &[RgbFrame],
-    frames: &[usize],
-    detector: &mut Detector,
-    name: &mut dyn FnMut(&RgbFrame, &mut [Detection]),
-) -> Result<u64, DetectorError> {
-    let config = detector.config();
-    let (input_width, input_height) = (config.input_width, config.input_height);
-    let mut windows_run = 0;
-    for image in pixels.iter().filter(|p| frames.contains(&p.index)) {
-        let Some((window_width, window_height)) = window_size(image, input_width, input_height)
-        else {
-            continue;
-        };
-        let Some((_, found)) = detections
-            .iter_mut()
-            .find(|(frame, _)| *frame == image.index)
-        else {
-            continue;
-        };
-        let areas: Vec<[f32; 4]> = found.iter().map(|d| d.bbox).collect();
-        let mut added: Vec<Detection> = Vec::new();
-        for window in tiles_over(
-            image.width,
-            image.height,
-            window_width,
-            window_height,
-            &areas,
-        ) {
-            let Some(part) = crop(image, window) else {
-                continue;
-            };
-            windows_run += 1;
-            for detection in detector.detect(&part)? {
-                let b = detection.bbox;
-                let (dx, dy) = (window[0] as f32, window[1] as f32);
-                let bbox = [b[0] + dx, b[1] + dy, b[2] + dx, b[3] + dy];
-                let small = b[2] - b[0] <= window_width as f32 / 2.0
-                    && b[3] - b[1] <= window_height as f32 / 2.0;
-                if detection.score < MIN_ADD_SCORE
-                    || !small
-                    || !shows_whole(window, bbox, image.width, image.height)
-                {
-                    continue;
-                }
-                let overlaps = |other: &Detection| {
-                    box_iou(other.bbox.map(f64::from), bbox.map(f64::from)) >= SAME_OBJECT_IOU
-                };
-                if found.iter().any(overlaps) {
-                    continue;
-                }
-                let moved = Detection {
-                    frame: image.index,
-                    bbox,
-                    mask: detection.mask.shifted(window[0], window[1]),
-                    ..detection
-                };
-                // The same object in two overlapping windows: the surer detection stays.
-                match added.iter_mut().find(|other| overlaps(other)) {
-                    Some(other) if other.score < moved.score => *other = moved,
-                    Some(_) => {}
-                    None => added.push(moved),
-                }
-            }
-        }
-        name(image, &mut added);
-        found.extend(added);
-    }
-    Ok(windows_run)
-}
-
 /// One vote: a class and the detector's score for it.
 pub type Vote = (Class, f32);
 
@@ -323,11 +178,16 @@ pub fn look_closer(
     let mut votes: Vec<Vec<Vote>> = vec![Vec::new(); tracks.len()];
     let mut windows_run = 0;
     for image in pixels.iter().filter(|p| frames.contains(&p.index)) {
-        // The window: the model's input at ZOOM times the scale the whole frame is seen at.
-        let Some((window_width, window_height)) = window_size(image, input_width, input_height)
-        else {
+        // The window: the model's input at ZOOM times the scale the whole frame is seen at
+        // (the frame's width over ZOOM, the model's aspect).
+        let window_width = image.width / ZOOM;
+        let window_height = u32::try_from(
+            u64::from(input_height) * u64::from(window_width) / u64::from(input_width.max(1)),
+        )
+        .unwrap_or(u32::MAX);
+        if window_width < input_width || window_height < input_height {
             continue;
-        };
+        }
         let found = detections
             .iter()
             .find(|(frame, _)| *frame == image.index)
@@ -420,35 +280,6 @@ mod tests {
         assert_eq!(windows_over(1920, 1080, 960, 540, &edge).len(), 2);
         // A window larger than the frame: no closer look.
         assert!(windows_over(900, 500, 960, 540, &targets).is_empty());
-    }
-
-    #[test]
-    fn tiles_cover_the_frame_with_half_window_strides_where_objects_are() {
-        // 1920 × 1080 with 960 × 540 windows: three columns (0, 480, 960) and three rows
-        // (0, 270, 540); an object anywhere meets the tiles round it.
-        let everywhere = [[0.0, 0.0, 1920.0, 1080.0]];
-        let tiles = tiles_over(1920, 1080, 960, 540, &everywhere);
-        assert_eq!(tiles.len(), 9);
-        assert_eq!(tiles[0], [0, 0, 960, 540]);
-        assert_eq!(tiles[8], [960, 540, 960, 540]);
-        // Any box at most a quarter of the frame (half a window) lies whole in some tile.
-        for (x, y) in [(0.0, 0.0), (455.0, 250.0), (700.0, 530.0), (1440.0, 810.0)] {
-            let object = [x, y, x + 400.0, y + 220.0];
-            assert!(
-                tiles.iter().any(|t| shows_whole(*t, object, 1920, 1080)),
-                "{object:?}"
-            );
-        }
-        // Only the tiles that meet an object: one in the top left corner meets one tile.
-        let corner = [[10.0, 10.0, 60.0, 60.0]];
-        assert_eq!(
-            tiles_over(1920, 1080, 960, 540, &corner),
-            vec![[0, 0, 960, 540]]
-        );
-        // A frame whose size is no multiple of the stride: the last tile is flush with the edge.
-        let odd = tiles_over(1000, 560, 480, 270, &everywhere);
-        assert!(odd.contains(&[520, 290, 480, 270]), "{odd:?}");
-        assert!(tiles_over(900, 500, 960, 540, &everywhere).is_empty());
     }
 
     #[test]

@@ -81,17 +81,6 @@ impl InstanceMask {
         (self.left, self.top, self.width, self.height)
     }
 
-    /// The same mask moved right by `dx` and down by `dy` pixels (a window's detections into the
-    /// whole frame).
-    #[must_use]
-    pub fn shifted(&self, dx: u32, dy: u32) -> Self {
-        InstanceMask {
-            left: self.left.saturating_add(dx),
-            top: self.top.saturating_add(dy),
-            ..self.clone()
-        }
-    }
-
     /// Whether frame pixel `(x, y)` is in the mask.
     pub fn contains(&self, x: u32, y: u32) -> bool {
         if x < self.left || y < self.top {
@@ -253,17 +242,6 @@ pub fn suppress_duplicates(mut detections: Vec<Detection>) -> Vec<Detection> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_shifted_mask_holds_the_same_pixels_moved() {
-        let mask = InstanceMask::from_predicate(10, 10, |x, y| (2..4).contains(&x) && y == 5);
-        let moved = mask.shifted(100, 7);
-        assert_eq!(
-            moved.pixels().collect::<Vec<_>>(),
-            vec![(102, 12), (103, 12)]
-        );
-        assert!(moved.contains(102, 12) && !moved.contains(2, 5));
-    }
 
     #[test]
     fn box_overlap_is_intersection_over_union() {

@@ -29,7 +29,7 @@ use super::scene::PerceptionModels;
 use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
 use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
-use crate::perception::closer::{find_missed, look_closer};
+use crate::perception::closer::look_closer;
 use crate::perception::color::{ColorModel, name_colors};
 use crate::perception::detection::{Detection, box_iou};
 use crate::perception::detector::{Detector, DetectorConfig};
@@ -45,12 +45,6 @@ pub const LAST_FRAME: usize = 60;
 /// The first-pass frames whose objects of a class with rivals are looked at again on windows
 /// at twice the scale (`perception::closer`): three frames spread over the pass, as measured.
 const CLOSER_LOOK_FRAMES: [usize; 3] = [0, 30, 60];
-/// The first-pass frames tiled with windows at twice the scale for objects the whole frame
-/// missed (`perception::closer::find_missed`): two frames in a row of the pass, so that an
-/// object found only there makes a track of its own (tracks need two sightings within a few
-/// frames); what the whole frame misses it misses in every frame (the scene barely moves in
-/// the first pass).
-const FIND_MISSED_FRAMES: [usize; 2] = [0, FRAME_STEP];
 /// Least box IoU for a track to name an annotated object.
 const MIN_BINDING_IOU: f64 = 0.3;
 
@@ -242,22 +236,7 @@ impl Perceiver {
             return Ok(Vec::new());
         }
         let wanted = self.first_frames();
-        let (mut per_frame, frames) = self.detect(&wanted, true)?;
-        let added_windows = with_models(&self.models, self.classes, |detector, colors| {
-            let table = detector.classes().clone();
-            let mut name = |frame: &RgbFrame, found: &mut [Detection]| {
-                name_colors(frame, found, colors, &table);
-            };
-            find_missed(
-                &mut per_frame,
-                &frames,
-                &FIND_MISSED_FRAMES,
-                detector,
-                &mut name,
-            )
-            .map_err(unavailable)
-        })?;
-        self.work.1 += added_windows;
+        let (per_frame, frames) = self.detect(&wanted, true)?;
         let mut first = track(&per_frame, &TrackerConfig::default()).map_err(unavailable)?;
         let vocabulary = self.vocabulary;
         let windows = with_models(&self.models, self.classes, |detector, colors| {

@@ -212,12 +212,12 @@ fn demo_results_under_every_backend_pair_are_unchanged() {
         (
             "maskrcnn",
             "annotation",
-            "1c1ece740535fd4fa2ee1ff7195c9a1b6f1aaeea5a8e68d725d734844dc53e23",
+            "424263f1ba81db5e3ba3a3309a676bdc4b1e6f42cbff6f692dade69934acb4a0",
         ),
         (
             "maskrcnn",
             "simulate",
-            "8619b09136f0658658aa48833554edff69a1df39c571ed0a4f8bb96c4d0dbdce",
+            "5750bd4fc9fabeab9d2005f2d720e606f296afb1dd5de07aad09149b2a784b9a",
         ),
     ];
     let out = tempfile::tempdir().unwrap();
