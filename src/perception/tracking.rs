@@ -427,14 +427,12 @@ pub fn track(
             .filter(|d| track_of_detection[*d].is_none())
             .collect();
         let second = assign(open_tracks.len(), open_detections.len(), |t, d| {
-            let (track, detection) = (&live[open_tracks[t]], &prepared[open_detections[d]]);
-            let overlap = iou(
-                track.last_mask,
-                track.last_area,
-                &detection.detection.mask,
-                detection.area,
-            );
-            (overlap >= config.relabel_min_iou).then_some(1.0 - overlap)
+            relabel_cost(
+                &live[open_tracks[t]],
+                &prepared[open_detections[d]],
+                frame,
+                config,
+            )
         });
         for (t, d) in second.iter().enumerate() {
             if let Some(d) = d {
@@ -494,6 +492,40 @@ fn compatible_cost(
         appearance += config.class_change_cost;
     }
 
+    let (overlap, away, gate) = nearness(track, detection, frame, config);
+    let in_gate = (overlap >= config.min_iou && overlap > 0.0) || away <= gate;
+    in_gate.then(|| appearance + (1.0 - overlap).min(away / gate))
+}
+
+/// Step 2's cost of giving `detection` to `track`, both left over by step 1 (their colours or
+/// kinds disagree): the same pixels (IoU at least [`TrackerConfig::relabel_min_iou`]), or an
+/// object of the same kind inside step 1's distance gate, whose colour was misread for this
+/// frame. The second kind costs more, so overlap wins where both are possible. A moving pulley
+/// read in another colour for one sparse frame overlaps its last mask too little for the first
+/// test, and would otherwise start a second track of the same object.
+fn relabel_cost(
+    track: &LiveTrack<'_>,
+    detection: &Prepared<'_>,
+    frame: usize,
+    config: &TrackerConfig,
+) -> Option<f64> {
+    let (overlap, away, gate) = nearness(track, detection, frame, config);
+    if overlap >= config.relabel_min_iou {
+        Some(1.0 - overlap)
+    } else {
+        (track.class().same_kind(detection.detection.class) && away <= gate)
+            .then(|| 1.0 + away / gate)
+    }
+}
+
+/// How near `detection` (in `frame`) is to `track`: the masks' IoU, the centroid's distance
+/// from the track's predicted or last position (pixels), and the distance gate (pixels).
+fn nearness(
+    track: &LiveTrack<'_>,
+    detection: &Prepared<'_>,
+    frame: usize,
+    config: &TrackerConfig,
+) -> (f64, f64, f64) {
     let last = track.last_point();
     let gap = frame.saturating_sub(last.frame) as f64;
     let radius = track
@@ -509,8 +541,7 @@ fn compatible_cost(
         &detection.detection.mask,
         detection.area,
     );
-    let in_gate = (overlap >= config.min_iou && overlap > 0.0) || away <= gate;
-    in_gate.then(|| appearance + (1.0 - overlap).min(away / gate))
+    (overlap, away, gate)
 }
 
 #[cfg(test)]
@@ -790,6 +821,44 @@ mod tests {
         assert_eq!(tracks[0].observations.len(), 6);
         assert_eq!(tracks[0].color, Some(RED));
         assert_eq!(tracks[0].class, class("cube"));
+    }
+
+    /// Seed 9473's video 0: a movable pulley sinking, seen every 10th frame, read in another
+    /// colour in one of them. It moved too far between samples for its masks to overlap by half,
+    /// so only the distance gate can keep it on its track; without it the misread frame started
+    /// a second pulley, and the rope was read round both.
+    #[test]
+    fn a_moving_object_misread_in_one_sparse_frame_stays_one_track() {
+        let frames: Vec<_> = (0..7)
+            .map(|sample| {
+                let frame = sample * 10;
+                let color = if sample == 5 { BLUE } else { RED };
+                (
+                    frame,
+                    vec![square(
+                        class("cube"),
+                        Some(color),
+                        100,
+                        40 + 2 * px(frame),
+                        25,
+                    )],
+                )
+            })
+            .collect();
+        let (first, second) = (&frames[4].1[0], &frames[5].1[0]);
+        assert!(
+            iou(
+                &first.mask,
+                first.mask.area(),
+                &second.mask,
+                second.mask.area()
+            ) < 0.5,
+            "the misread frame overlaps the last one by less than half"
+        );
+        let tracks = run(&frames);
+        assert_eq!(tracks.len(), 1, "{:?}", paths(&tracks));
+        assert_eq!(tracks[0].observations.len(), 7);
+        assert_eq!(tracks[0].color, Some(RED));
     }
 
     /// A vertical rope `x0..x0 + 3` from `top` to `bottom`, over a 200×200 frame.

@@ -157,6 +157,9 @@ impl PromptSet {
         );
         let mut environment = Environment::new();
         environment.set_undefined_behavior(UndefinedBehavior::Strict);
+        // Errors name the undefined variable in release builds too: minijinja keeps the debug
+        // info that names it only under debug assertions unless asked.
+        environment.set_debug(true);
         environment.set_auto_escape_callback(|_| AutoEscape::None);
         let syntax = minijinja::syntax::SyntaxConfig::builder()
             .trim_blocks(true)
