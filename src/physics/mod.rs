@@ -9,10 +9,13 @@
 //! * [`rope`]: rope–pulley networks (ideal inextensible ropes that only pull, pulley inertia,
 //!   Coulomb bearing friction, floor and pulley stops), one complementarity problem per step;
 //!   [`rope::identify`] infers load masses from observed motion.
+//! * [`fluid`]: 2D position-based fluids, the fluid scenario's truth solver (the release's Obi
+//!   Fluid settings).
 //! * [`linalg`]: the small dense solvers they share.
 //! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
 //!   answers).
 
 pub mod bench;
+pub mod fluid;
 pub mod linalg;
 pub mod rope;

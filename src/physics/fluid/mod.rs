@@ -1,0 +1,545 @@
+//! Position-based fluids in 2D: the fluid scenario's truth solver, configured as the release
+//! configured Obi Fluid in 2D mode (`FORMAT.md` §3.1, DESIGN.md §10). `--dynamics simulate`
+//! predicts fluids with a different method (MLS-MPM), so that its accuracy measures prediction,
+//! not reconstruction.
+//!
+//! Units are the scene's: lengths in units (the tank is 5 × 2.5), time in seconds, one update
+//! 1/60 s; `y` points up and gravity is −4.8 units/s² as in the release.
+//!
+//! **Method** (Macklin & Müller 2013, "Position Based Fluids", with the multi-fluid number
+//! density of Solenthaler & Pajarola 2008). Each update: emitters add particles; velocities take
+//! gravity and positions are predicted; then [`FluidParameters::density_iterations`] times, each
+//! particle's number density `δᵢ = Σⱼ W(xᵢ − xⱼ)` (poly6 kernel) is held at the rest number
+//! density of a square lattice of the particle spacing by the constraint `Cᵢ = δᵢ/δ₀ − 1 ≤ 0`
+//! (only compression is resisted, so free surfaces do not clump), each correction weighted by
+//! the particle's inverse mass (mass ∝ rest density): where fluids of different density meet,
+//! the lighter one gives way, and the denser one sinks. After each iteration every particle's
+//! move is stopped at the colliders (continuous collision, [`Collider`]). Velocities follow from
+//! the positions, then XSPH viscosity blends each particle's velocity with its neighbours' and,
+//! near a collider, towards rest (a no-slip wall).
+//! Every update checks that every position and velocity is finite.
+//!
+//! Not yet modelled: surface tension and Obi's buoyancy setting; the viscosity mapping from
+//! Obi's values is [`xsph_coefficient`]. Known defect, next to fix: the number density has no
+//! term for the colliders, so particles next to a wall count too few neighbours and the fluid
+//! packs tighter there; a block of 20 × 16 particles at rest in a tank settles to a surface at
+//! 0.34 units instead of 0.40 (about 15% of its volume), while no particle is compressed above
+//! 1.05 of the rest number density. At rest particles jitter (mean speed 0.05 units/s, 99% under
+//! 0.3), most at the free surface.
+//!
+//! Input: [`FluidParameters`], fluids, colliders and emitters. Output: particle positions and
+//! velocities after each update, and which fluid each particle belongs to.
+
+mod collide;
+mod grid;
+
+pub use collide::Collider;
+
+use rand::Rng as _;
+use rand_chacha::ChaCha8Rng;
+
+use grid::Neighbours;
+
+/// Gravity of the release's fluid solver, units/s² (downwards).
+pub const GRAVITY: f64 = -4.8;
+/// One update of the release (one captured frame advances 1/60 s), seconds.
+pub const UPDATE_SECONDS: f64 = 1.0 / 60.0;
+
+/// The most one density iteration moves a particle, in spacings.
+const MAX_CORRECTION_SPACINGS: f64 = 0.5;
+
+/// Solver settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FluidParameters {
+    /// Particle spacing at rest, units (Obi resolution 40: 1/40).
+    pub spacing: f64,
+    /// Kernel radius over spacing.
+    pub kernel_ratio: f64,
+    /// Density iterations per update (the release: 12).
+    pub density_iterations: usize,
+    /// Update length, seconds.
+    pub update_seconds: f64,
+    /// Gravity, units/s² along `y`.
+    pub gravity: f64,
+}
+
+impl Default for FluidParameters {
+    fn default() -> Self {
+        FluidParameters {
+            spacing: 1.0 / 40.0,
+            kernel_ratio: 2.5,
+            density_iterations: 12,
+            update_seconds: UPDATE_SECONDS,
+            gravity: GRAVITY,
+        }
+    }
+}
+
+/// One fluid's material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FluidMaterial {
+    /// Rest density (the release's pools: {1600, 3000, 4400} and {1200, 2600, 4000, 5400}).
+    pub rest_density: f64,
+    /// Obi viscosity: 0.02 (Non-Sticky) or 10 (Sticky).
+    pub viscosity: f64,
+}
+
+/// An edge emitter: rows of particles across a `width`-wide edge, leaving along `direction`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Emitter {
+    /// Index of the fluid it emits.
+    pub fluid: usize,
+    /// Centre of the edge, units.
+    pub centre: [f64; 2],
+    /// Direction of emission (normalised on use).
+    pub direction: [f64; 2],
+    /// Edge width, units (the release: 0.5).
+    pub width: f64,
+    /// Emission speed, units/s (the release: 0.7).
+    pub speed: f64,
+    /// Largest random velocity added to each particle, units/s (the release: 0.4).
+    pub random_velocity: f64,
+    /// Particles it emits in all (the release: 1,500).
+    pub capacity: usize,
+    /// The first update it emits at (the release: 2, or 460 for a later emitter).
+    pub opens_at: usize,
+}
+
+/// Why the solver stopped.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum FluidError {
+    /// A position or velocity became NaN or infinite.
+    #[error("fluid particle {particle} is not finite after update {update}")]
+    NonFinite {
+        /// The update that produced it.
+        update: usize,
+        /// The particle.
+        particle: usize,
+    },
+    /// A setting is out of its range.
+    #[error("fluid solver setting `{name}` is {value}: {expected}")]
+    Setting {
+        /// The setting.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        expected: &'static str,
+    },
+}
+
+/// A fluid scene being simulated.
+#[derive(Debug, Clone)]
+pub struct FluidWorld {
+    parameters: FluidParameters,
+    fluids: Vec<FluidMaterial>,
+    colliders: Vec<Collider>,
+    emitters: Vec<Emitter>,
+    /// Per emitter: particles emitted so far and the distance travelled since its last row.
+    emitted: Vec<(usize, f64)>,
+    positions: Vec<[f64; 2]>,
+    velocities: Vec<[f64; 2]>,
+    fluid_of: Vec<usize>,
+    rest_number_density: f64,
+    update: usize,
+    rng: ChaCha8Rng,
+}
+
+/// The XSPH blend of a particle's velocity towards its neighbours' per update for an Obi
+/// viscosity value: `v / (1 + v)`, so Non-Sticky (0.02) blends 2% and Sticky (10) 91%. Obi does
+/// not publish its scale; this mapping keeps both in `[0, 1)` and their order and contrast.
+pub fn xsph_coefficient(viscosity: f64) -> f64 {
+    let v = viscosity.max(0.0);
+    v / (1.0 + v)
+}
+
+impl FluidWorld {
+    /// An empty scene; `seed` drives the emitters' random velocities.
+    ///
+    /// # Errors
+    /// A setting out of range.
+    pub fn new(
+        parameters: FluidParameters,
+        fluids: Vec<FluidMaterial>,
+        colliders: Vec<Collider>,
+        emitters: Vec<Emitter>,
+        seed: u64,
+    ) -> Result<FluidWorld, FluidError> {
+        let positive = |name, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(FluidError::Setting {
+                    name,
+                    value,
+                    expected: "must be positive and finite",
+                })
+            }
+        };
+        positive("spacing", parameters.spacing)?;
+        positive("kernel_ratio", parameters.kernel_ratio)?;
+        positive("update_seconds", parameters.update_seconds)?;
+        for fluid in &fluids {
+            positive("rest_density", fluid.rest_density)?;
+        }
+        let rest_number_density = lattice_number_density(&parameters);
+        let emitted = vec![(0, 0.0); emitters.len()];
+        Ok(FluidWorld {
+            parameters,
+            fluids,
+            colliders,
+            emitters,
+            emitted,
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            fluid_of: Vec::new(),
+            rest_number_density,
+            update: 0,
+            rng: crate::util::seeded_rng(seed),
+        })
+    }
+
+    /// Adds a particle of `fluid` at `position` (units) moving at `velocity` (units/s).
+    pub fn add_particle(&mut self, fluid: usize, position: [f64; 2], velocity: [f64; 2]) {
+        self.positions.push(position);
+        self.velocities.push(velocity);
+        self.fluid_of.push(fluid);
+    }
+
+    /// Particle positions, units.
+    pub fn positions(&self) -> &[[f64; 2]] {
+        &self.positions
+    }
+
+    /// Particle velocities, units/s.
+    pub fn velocities(&self) -> &[[f64; 2]] {
+        &self.velocities
+    }
+
+    /// The fluid of each particle.
+    pub fn fluid_of(&self) -> &[usize] {
+        &self.fluid_of
+    }
+
+    /// Updates done so far.
+    pub fn update_count(&self) -> usize {
+        self.update
+    }
+
+    /// The rest number density the density constraint holds (particles per unit area, kernel
+    /// weighted).
+    pub fn rest_number_density(&self) -> f64 {
+        self.rest_number_density
+    }
+
+    /// Each particle's number density over the rest one (1 at rest, above 1 when compressed).
+    pub fn density_ratios(&self) -> Vec<f64> {
+        let h = self.kernel_radius();
+        let neighbours = Neighbours::find(&self.positions, h);
+        (0..self.positions.len())
+            .map(|i| number_density(&self.positions, &neighbours, i, h) / self.rest_number_density)
+            .collect()
+    }
+
+    fn kernel_radius(&self) -> f64 {
+        self.parameters.spacing * self.parameters.kernel_ratio
+    }
+
+    /// Advances one update.
+    ///
+    /// # Errors
+    /// A particle's position or velocity is not finite afterwards.
+    pub fn step(&mut self) -> Result<(), FluidError> {
+        self.emit();
+        let dt = self.parameters.update_seconds;
+        let start = self.positions.clone();
+        let mut predicted: Vec<[f64; 2]> = start
+            .iter()
+            .zip(self.velocities.iter_mut())
+            .map(|(x, v)| {
+                v[1] += self.parameters.gravity * dt;
+                [x[0] + v[0] * dt, x[1] + v[1] * dt]
+            })
+            .collect();
+        // Friction and stickiness act once per update, on the predicted move; the density
+        // iterations' corrections are only kept out of the colliders.
+        self.collide(&start, &mut predicted, true);
+        let h = self.kernel_radius();
+        for _ in 0..self.parameters.density_iterations {
+            let neighbours = Neighbours::find(&predicted, h);
+            let corrections = self.density_corrections(&predicted, &neighbours);
+            let before = predicted.clone();
+            let largest = MAX_CORRECTION_SPACINGS * self.parameters.spacing;
+            for (p, c) in predicted.iter_mut().zip(&corrections) {
+                // Two particles almost on top of each other (a fast emitter row landing on
+                // the last one) would be thrown apart by the kernel's steep gradient: no
+                // iteration moves a particle more than half a spacing.
+                let length = c[0].hypot(c[1]);
+                let shrink = if length > largest {
+                    largest / length
+                } else {
+                    1.0
+                };
+                p[0] += c[0] * shrink;
+                p[1] += c[1] * shrink;
+            }
+            // Corrections move particles too: stop them at the colliders, from where they were.
+            self.collide(&before, &mut predicted, false);
+        }
+        for ((v, p), x) in self.velocities.iter_mut().zip(&predicted).zip(&start) {
+            *v = [(p[0] - x[0]) / dt, (p[1] - x[1]) / dt];
+        }
+        self.viscosity(&predicted, h);
+        self.positions = predicted;
+        self.update += 1;
+        self.check_finite()
+    }
+
+    fn collide(&self, from: &[[f64; 2]], predicted: &mut [[f64; 2]], with_friction: bool) {
+        let radius = 0.5 * self.parameters.spacing;
+        for (start, p) in from.iter().zip(predicted.iter_mut()) {
+            for collider in &self.colliders {
+                if with_friction {
+                    collider.resolve(*start, p, radius);
+                } else {
+                    let smooth = Collider {
+                        friction: 0.0,
+                        stickiness: 0.0,
+                        ..*collider
+                    };
+                    smooth.resolve(*start, p, radius);
+                }
+            }
+        }
+    }
+
+    /// One density iteration's position corrections (Macklin & Müller's λ, with inverse-mass
+    /// weights).
+    fn density_corrections(
+        &self,
+        predicted: &[[f64; 2]],
+        neighbours: &Neighbours,
+    ) -> Vec<[f64; 2]> {
+        let h = self.kernel_radius();
+        let count = predicted.len();
+        let inverse_mass: Vec<f64> = self
+            .fluid_of
+            .iter()
+            .map(|&f| {
+                // Relative to 1000, which cancels in each constraint's λ.
+                self.fluids
+                    .get(f)
+                    .map_or(1.0, |fluid| 1000.0 / fluid.rest_density)
+            })
+            .collect();
+        let scale = 1.0 / self.rest_number_density;
+        // A small compliance keeps λ finite for a particle with few neighbours.
+        let peak = scale * spiky_gradient_peak(h);
+        let compliance = 1e-6 * peak * peak;
+        let mut lambda = vec![0.0; count];
+        for i in 0..count {
+            let constraint = number_density(predicted, neighbours, i, h) * scale - 1.0;
+            if constraint <= 0.0 {
+                continue;
+            }
+            let mut own = [0.0, 0.0];
+            let mut sum = 0.0;
+            for &j in neighbours.of(i) {
+                let g = spiky_gradient(predicted[i], predicted[j], h);
+                let g = [g[0] * scale, g[1] * scale];
+                own[0] += g[0];
+                own[1] += g[1];
+                sum += inverse_mass[j] * (g[0] * g[0] + g[1] * g[1]);
+            }
+            sum += inverse_mass[i] * (own[0] * own[0] + own[1] * own[1]);
+            lambda[i] = -constraint / (sum + compliance);
+        }
+        (0..count)
+            .map(|i| {
+                let mut delta = [0.0, 0.0];
+                for &j in neighbours.of(i) {
+                    let g = spiky_gradient(predicted[i], predicted[j], h);
+                    let weight = (lambda[i] + lambda[j]) * scale;
+                    delta[0] += weight * g[0];
+                    delta[1] += weight * g[1];
+                }
+                [delta[0] * inverse_mass[i], delta[1] * inverse_mass[i]]
+            })
+            .collect()
+    }
+
+    fn viscosity(&mut self, positions: &[[f64; 2]], h: f64) {
+        let neighbours = Neighbours::find(positions, h);
+        let scale = 1.0 / self.rest_number_density;
+        let old = self.velocities.clone();
+        for (i, v) in self.velocities.iter_mut().enumerate() {
+            let coefficient = self
+                .fluids
+                .get(self.fluid_of[i])
+                .map_or(0.0, |f| xsph_coefficient(f.viscosity));
+            let mut blend = [0.0, 0.0];
+            for &j in neighbours.of(i) {
+                let w = poly6(positions[i], positions[j], h) * scale;
+                blend[0] += (old[j][0] - old[i][0]) * w;
+                blend[1] += (old[j][1] - old[i][1]) * w;
+            }
+            // A collider counts as a neighbour at rest: a particle within the kernel radius of
+            // its surface blends towards standing still by `(1 − d/h)²` of the coefficient, the
+            // no-slip wall of viscous fluids, so a sticky fluid clings to a stick where a
+            // runny one slides off.
+            let wall = self
+                .colliders
+                .iter()
+                .map(|collider| {
+                    let gap =
+                        collider.surface_distance(positions[i], 0.5 * self.parameters.spacing);
+                    if gap < h {
+                        let near = 1.0 - gap.max(0.0) / h;
+                        near * near
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(0.0, f64::max);
+            blend[0] -= old[i][0] * wall;
+            blend[1] -= old[i][1] * wall;
+            v[0] += coefficient * blend[0];
+            v[1] += coefficient * blend[1];
+        }
+    }
+
+    fn emit(&mut self) {
+        let spacing = self.parameters.spacing;
+        let dt = self.parameters.update_seconds;
+        for (k, emitter) in self.emitters.iter().enumerate() {
+            let (count, travelled) = &mut self.emitted[k];
+            if self.update < emitter.opens_at || *count >= emitter.capacity {
+                continue;
+            }
+            let norm = emitter.direction[0].hypot(emitter.direction[1]);
+            if !(norm.is_finite() && norm > 0.0) {
+                continue;
+            }
+            let direction = [emitter.direction[0] / norm, emitter.direction[1] / norm];
+            let across = [-direction[1], direction[0]];
+            *travelled += emitter.speed * dt;
+            #[expect(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "a positive width over a positive spacing, rounded, is a small count"
+            )]
+            let per_row = ((emitter.width / spacing).round().max(1.0)) as usize;
+            while *travelled >= spacing && *count < emitter.capacity {
+                *travelled -= spacing;
+                for slot in 0..per_row {
+                    if *count >= emitter.capacity {
+                        break;
+                    }
+                    let offset = (slot as f64 + 0.5 - per_row as f64 / 2.0) * spacing;
+                    let ahead = *travelled;
+                    let position = [
+                        emitter.centre[0] + across[0] * offset + direction[0] * ahead,
+                        emitter.centre[1] + across[1] * offset + direction[1] * ahead,
+                    ];
+                    // A random velocity of up to `random_velocity` in a random direction.
+                    let angle = self.rng.random::<f64>() * std::f64::consts::TAU;
+                    let size = self.rng.random::<f64>() * emitter.random_velocity;
+                    let velocity = [
+                        direction[0] * emitter.speed + size * angle.cos(),
+                        direction[1] * emitter.speed + size * angle.sin(),
+                    ];
+                    self.positions.push(position);
+                    self.velocities.push(velocity);
+                    self.fluid_of.push(emitter.fluid);
+                    *count += 1;
+                }
+            }
+        }
+    }
+
+    fn check_finite(&self) -> Result<(), FluidError> {
+        let bad = self
+            .positions
+            .iter()
+            .zip(&self.velocities)
+            .position(|(p, v)| !p.iter().chain(v).all(|value| value.is_finite()));
+        match bad {
+            Some(particle) => Err(FluidError::NonFinite {
+                update: self.update,
+                particle,
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The 2D poly6 kernel of radius `radius`, normalised to integrate to 1 over the plane, between
+/// points `first` and `second`.
+fn poly6(first: [f64; 2], second: [f64; 2], radius: f64) -> f64 {
+    // Products, not `powi`: the same bytes in debug and release builds.
+    let offset = [first[0] - second[0], first[1] - second[1]];
+    let squared = offset[0] * offset[0] + offset[1] * offset[1];
+    let radius_squared = radius * radius;
+    if squared >= radius_squared {
+        0.0
+    } else {
+        let gap = radius_squared - squared;
+        let r4 = radius_squared * radius_squared;
+        4.0 / (std::f64::consts::PI * r4 * r4) * gap * gap * gap
+    }
+}
+
+/// The largest magnitude of the 2D spiky kernel's gradient (at distance → 0) for kernel radius
+/// `radius`.
+fn spiky_gradient_peak(radius: f64) -> f64 {
+    30.0 / (std::f64::consts::PI * radius * radius * radius)
+}
+
+/// The gradient with respect to `first` of the 2D spiky kernel `10/(π h⁵) (h − r)³` (`h` the
+/// kernel radius `radius`, `r` the distance to `second`).
+fn spiky_gradient(first: [f64; 2], second: [f64; 2], radius: f64) -> [f64; 2] {
+    let offset = [first[0] - second[0], first[1] - second[1]];
+    let distance = offset[0].hypot(offset[1]);
+    if distance >= radius || distance <= 1e-12 {
+        return [0.0, 0.0];
+    }
+    let gap = radius - distance;
+    let r5 = radius * radius * radius * radius * radius;
+    let magnitude = -30.0 / (std::f64::consts::PI * r5) * gap * gap;
+    [
+        magnitude * offset[0] / distance,
+        magnitude * offset[1] / distance,
+    ]
+}
+
+/// Particle `i`'s kernel-weighted number density, itself included.
+fn number_density(positions: &[[f64; 2]], neighbours: &Neighbours, i: usize, h: f64) -> f64 {
+    let own = poly6(positions[i], positions[i], h);
+    neighbours
+        .of(i)
+        .iter()
+        .fold(own, |sum, &j| sum + poly6(positions[i], positions[j], h))
+}
+
+/// The number density of a particle inside an endless square lattice of the spacing: the rest
+/// state the density constraint holds.
+fn lattice_number_density(parameters: &FluidParameters) -> f64 {
+    let h = parameters.spacing * parameters.kernel_ratio;
+    #[expect(
+        clippy::cast_possible_truncation,
+        reason = "the kernel ratio is a small positive number"
+    )]
+    let reach = parameters.kernel_ratio.ceil() as i64 + 1;
+    let mut sum = 0.0;
+    for y in -reach..=reach {
+        for x in -reach..=reach {
+            #[expect(clippy::cast_precision_loss, reason = "small lattice offsets")]
+            let point = [x as f64 * parameters.spacing, y as f64 * parameters.spacing];
+            sum += poly6([0.0, 0.0], point, h);
+        }
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests;
