@@ -47,6 +47,20 @@ impl Collider {
         (point[0] - c[0]).hypot(point[1] - c[1])
     }
 
+    /// Distance from `point` to this collider's surface (negative inside), units, and the
+    /// surface's outward normal there.
+    pub(crate) fn surface_gap(&self, point: [f64; 2]) -> (f64, [f64; 2]) {
+        let centre = self.closest(point);
+        let offset = [point[0] - centre[0], point[1] - centre[1]];
+        let length = offset[0].hypot(offset[1]);
+        let normal = if length > 1e-12 {
+            [offset[0] / length, offset[1] / length]
+        } else {
+            [0.0, 0.0]
+        };
+        (length - self.half_thickness, normal)
+    }
+
     /// Distance from a particle of radius `radius` at `point` to this collider's surface,
     /// units (negative inside).
     pub(crate) fn surface_distance(&self, point: [f64; 2], radius: f64) -> f64 {
