@@ -47,24 +47,27 @@ impl Collider {
         (point[0] - c[0]).hypot(point[1] - c[1])
     }
 
-    /// Distance from `point` to this collider's surface (negative inside), units, and the
-    /// surface's outward normal there.
-    pub(crate) fn surface_gap(&self, point: [f64; 2]) -> (f64, [f64; 2]) {
+    /// The point of the centre line closest to `point`, the distance to it, and the outward
+    /// direction from it towards `point` (on the centre line itself: the segment's left normal).
+    fn outward(&self, point: [f64; 2]) -> ([f64; 2], f64, [f64; 2]) {
         let centre = self.closest(point);
         let offset = [point[0] - centre[0], point[1] - centre[1]];
         let length = offset[0].hypot(offset[1]);
         let normal = if length > 1e-12 {
             [offset[0] / length, offset[1] / length]
         } else {
-            [0.0, 0.0]
+            let along = [self.end[0] - self.start[0], self.end[1] - self.start[1]];
+            let norm = along[0].hypot(along[1]).max(1e-12);
+            [-along[1] / norm, along[0] / norm]
         };
-        (length - self.half_thickness, normal)
+        (centre, length, normal)
     }
 
-    /// Distance from a particle of radius `radius` at `point` to this collider's surface,
-    /// units (negative inside).
-    pub(crate) fn surface_distance(&self, point: [f64; 2], radius: f64) -> f64 {
-        self.distance(point) - self.half_thickness - radius
+    /// Distance from `point` to this collider's surface (negative inside), units, and the
+    /// surface's outward normal there.
+    pub(crate) fn surface_gap(&self, point: [f64; 2]) -> (f64, [f64; 2]) {
+        let (_, length, normal) = self.outward(point);
+        (length - self.half_thickness, normal)
     }
 
     /// Moves `predicted`, reached from `from` by a particle of radius `radius`, so that the move
@@ -72,6 +75,12 @@ impl Collider {
     /// the contact keeps only its sliding component, reduced by Coulomb friction.
     pub(crate) fn resolve(&self, from: [f64; 2], predicted: &mut [f64; 2], radius: f64) -> bool {
         let reach = self.half_thickness + radius;
+        // The distance to the centre line changes no faster than the particle moves: a move
+        // shorter than its start's clearance cannot touch (most particle–collider pairs).
+        let travel = (predicted[0] - from[0]).hypot(predicted[1] - from[1]);
+        if self.distance(from) - travel >= reach {
+            return false;
+        }
         let at = |t: f64| {
             [
                 from[0] + t * (predicted[0] - from[0]),
@@ -110,18 +119,7 @@ impl Collider {
             outside
         };
         let contact = at(touch);
-        let centre = self.closest(contact);
-        let offset = [contact[0] - centre[0], contact[1] - centre[1]];
-        let length = offset[0].hypot(offset[1]);
-        let normal = if length > 1e-12 {
-            [offset[0] / length, offset[1] / length]
-        } else {
-            // On the centre line: leave towards where the particle came from, or along the
-            // segment's left normal.
-            let along = [self.end[0] - self.start[0], self.end[1] - self.start[1]];
-            let norm = along[0].hypot(along[1]).max(1e-12);
-            [-along[1] / norm, along[0] / norm]
-        };
+        let (centre, _, normal) = self.outward(contact);
         let surface = [centre[0] + normal[0] * reach, centre[1] + normal[1] * reach];
         let rest = [predicted[0] - contact[0], predicted[1] - contact[1]];
         let normal_part = rest[0] * normal[0] + rest[1] * normal[1];
@@ -148,16 +146,9 @@ impl Collider {
             surface[1] + keep * sliding[1] + leave * normal[1],
         ];
         // Sliding along a capsule's rounded end or off its edge can re-enter it: project out.
-        let distance = self.distance(moved);
+        let (centre, distance, away) = self.outward(moved);
         if distance < reach {
-            let c = self.closest(moved);
-            let away = [moved[0] - c[0], moved[1] - c[1]];
-            let norm = away[0].hypot(away[1]);
-            moved = if norm > 1e-12 {
-                [c[0] + away[0] / norm * reach, c[1] + away[1] / norm * reach]
-            } else {
-                surface
-            };
+            moved = [centre[0] + away[0] * reach, centre[1] + away[1] * reach];
         }
         *predicted = moved;
         true

@@ -268,9 +268,19 @@ impl FluidWorld {
         // iterations' corrections are only kept out of the colliders.
         self.collide(&start, &mut predicted, true);
         let h = self.kernel_radius();
+        // Relative to 1000, which cancels in each constraint's λ.
+        let inverse_mass: Vec<f64> = self
+            .fluid_of
+            .iter()
+            .map(|&f| {
+                self.fluids
+                    .get(f)
+                    .map_or(1.0, |fluid| 1000.0 / fluid.rest_density)
+            })
+            .collect();
         for _ in 0..self.parameters.density_iterations {
             let neighbours = Neighbours::find(&predicted, h);
-            let corrections = self.density_corrections(&predicted, &neighbours);
+            let corrections = self.density_corrections(&predicted, &neighbours, &inverse_mass);
             let before = predicted.clone();
             let largest = MAX_CORRECTION_SPACINGS * self.parameters.spacing;
             for (p, c) in predicted.iter_mut().zip(&corrections) {
@@ -300,41 +310,38 @@ impl FluidWorld {
 
     fn collide(&self, from: &[[f64; 2]], predicted: &mut [[f64; 2]], with_friction: bool) {
         let radius = 0.5 * self.parameters.spacing;
+        let smooth: Vec<Collider>;
+        let colliders = if with_friction {
+            &self.colliders
+        } else {
+            smooth = self
+                .colliders
+                .iter()
+                .map(|collider| Collider {
+                    friction: 0.0,
+                    stickiness: 0.0,
+                    ..*collider
+                })
+                .collect();
+            &smooth
+        };
         for (start, p) in from.iter().zip(predicted.iter_mut()) {
-            for collider in &self.colliders {
-                if with_friction {
-                    collider.resolve(*start, p, radius);
-                } else {
-                    let smooth = Collider {
-                        friction: 0.0,
-                        stickiness: 0.0,
-                        ..*collider
-                    };
-                    smooth.resolve(*start, p, radius);
-                }
+            for collider in colliders {
+                collider.resolve(*start, p, radius);
             }
         }
     }
 
-    /// One density iteration's position corrections (Macklin & Müller's λ, with inverse-mass
-    /// weights).
+    /// One density iteration's position corrections (Macklin & Müller's λ, weighted by each
+    /// particle's inverse mass).
     fn density_corrections(
         &self,
         predicted: &[[f64; 2]],
         neighbours: &Neighbours,
+        inverse_mass: &[f64],
     ) -> Vec<[f64; 2]> {
         let h = self.kernel_radius();
         let count = predicted.len();
-        let inverse_mass: Vec<f64> = self
-            .fluid_of
-            .iter()
-            .map(|&f| {
-                // Relative to 1000, which cancels in each constraint's λ.
-                self.fluids
-                    .get(f)
-                    .map_or(1.0, |fluid| 1000.0 / fluid.rest_density)
-            })
-            .collect();
         let scale = 1.0 / self.rest_number_density;
         // A small compliance keeps λ finite for a particle with few neighbours.
         let peak = scale * spiky_gradient_peak(h);
@@ -423,8 +430,7 @@ impl FluidWorld {
                 .colliders
                 .iter()
                 .map(|collider| {
-                    let gap =
-                        collider.surface_distance(positions[i], 0.5 * self.parameters.spacing);
+                    let gap = collider.surface_gap(positions[i]).0 - 0.5 * self.parameters.spacing;
                     if gap < h {
                         let near = 1.0 - gap.max(0.0) / h;
                         near * near

@@ -53,6 +53,20 @@ fn block(world: &mut FluidWorld, fluid: usize, corner: [f64; 2], columns: usize,
     }
 }
 
+/// An emitter of `fluid` with the release's edge, speeds and opening update, at (0.5, 1).
+fn release_emitter(fluid: usize, direction: [f64; 2], capacity: usize) -> Emitter {
+    Emitter {
+        fluid,
+        centre: [0.5, 1.0],
+        direction,
+        width: 0.5,
+        speed: 0.7,
+        random_velocity: 0.4,
+        capacity,
+        opens_at: 2,
+    }
+}
+
 fn run(world: &mut FluidWorld, updates: usize) {
     for _ in 0..updates {
         world.step().unwrap();
@@ -154,16 +168,7 @@ fn the_denser_fluid_sinks_through_the_lighter_one() {
 #[test]
 fn only_emitters_add_particles_and_all_stay_in_the_tank() {
     let width = 1.0;
-    let emitter = Emitter {
-        fluid: 0,
-        centre: [0.5, 1.0],
-        direction: [0.0, -1.0],
-        width: 0.5,
-        speed: 0.7,
-        random_velocity: 0.4,
-        capacity: 300,
-        opens_at: 2,
-    };
+    let emitter = release_emitter(0, [0.0, -1.0], 300);
     let mut world = world(vec![WATER], tank(width), vec![emitter]);
     let mut last = 0;
     for update in 0..240 {
@@ -252,16 +257,7 @@ fn a_sticky_fluid_runs_down_a_ramp_slower_than_a_non_sticky_one() {
 
 #[test]
 fn a_run_is_bit_for_bit_the_same() {
-    let emitter = Emitter {
-        fluid: 1,
-        centre: [0.5, 1.0],
-        direction: [0.3, -1.0],
-        width: 0.5,
-        speed: 0.7,
-        random_velocity: 0.4,
-        capacity: 120,
-        opens_at: 2,
-    };
+    let emitter = release_emitter(1, [0.3, -1.0], 120);
     let thick = FluidMaterial {
         rest_density: 4400.0,
         viscosity: 10.0,

@@ -327,6 +327,26 @@ fn distance_to_segment(point: [f64; 2], start: [f64; 2], end: [f64; 2]) -> f64 {
     distance(point, lerp(start, end, t))
 }
 
+/// The pulleys other than its ends that the straight segment `start`–`end` from node `ends[0]` to
+/// `ends[1]` passes within [`GRAZE`] of their wrap circle.
+fn passed_pulleys(
+    nodes: &[Node],
+    ends: [usize; 2],
+    (start, end): ([f64; 2], [f64; 2]),
+) -> Vec<usize> {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|&(index, node)| {
+            !ends.contains(&index)
+                && node.kind.wrap_radius().is_some_and(|radius| {
+                    distance_to_segment(node.centre, start, end) < radius + GRAZE
+                })
+        })
+        .map(|(index, _)| index)
+        .collect()
+}
+
 /// How densely segments are sampled against the pixels, units.
 const SAMPLE_SPACING: f64 = 0.2;
 /// Least share of a segment's observable samples the rope's pixels must cover.
@@ -347,18 +367,7 @@ fn segment_support(
     // A rope cannot pass through a pulley, and one it grazes turns it, unless the rope wraps
     // that pulley elsewhere: then this stretch lies over its own turn there (a rope crossing
     // itself, as in a figure of eight). The chain checks that when it is complete.
-    let crossed: Vec<usize> = nodes
-        .iter()
-        .enumerate()
-        .filter(|&(index, node)| {
-            index != from
-                && index != to
-                && node.kind.wrap_radius().is_some_and(|radius| {
-                    distance_to_segment(node.centre, start, end) < radius + GRAZE
-                })
-        })
-        .map(|(index, _)| index)
-        .collect();
+    let crossed = passed_pulleys(nodes, [from, to], (start, end));
     let length = distance(start, end);
     let count = pieces(length / SAMPLE_SPACING);
     let (mut covered, mut missed, mut on_mask) = (0, 0, 0);
@@ -508,6 +517,7 @@ fn extend(
             done.on_mask += support.on_mask;
             // A chain and its reverse are the same rope; keep the one that starts lower.
             if done.nodes.first() < done.nodes.last()
+                && better(&done, best.as_ref())
                 && crossings_hold(
                     nodes,
                     &done,
@@ -518,7 +528,6 @@ fn extend(
                             .map(|&pulley| (pulley, path.nodes.len() - 1)),
                     ),
                 )
-                && better(&done, best.as_ref())
             {
                 *best = Some(done);
             }
@@ -562,8 +571,13 @@ fn extend(
 fn crossings_hold(
     nodes: &[Node],
     path: &RopePath,
-    mut crossed: impl Iterator<Item = (usize, usize)>,
+    crossed: impl Iterator<Item = (usize, usize)>,
 ) -> bool {
+    let mut crossed = crossed.peekable();
+    if crossed.peek().is_none() {
+        // Most chains pass over nothing: no geometry to build.
+        return true;
+    }
     let segments = path.segments(nodes);
     crossed.all(|(pulley, crossing)| {
         let wrapped = path
@@ -710,13 +724,10 @@ mod tests {
         assert!(read[1].is_none(), "a rope with no pixels has no path");
     }
 
-    /// The pixels of a drawn rope, seen within `reach` units of its centre line.
-    fn drawn_covers(
-        drawn: &[[f64; 2]],
-        reach: f64,
-    ) -> impl FnMut(usize, [f64; 2]) -> Option<Sample> + '_ {
+    /// The pixels of a drawn rope, seen within 0.3 units of its centre line.
+    fn drawn_covers(drawn: &[[f64; 2]]) -> impl FnMut(usize, [f64; 2]) -> Option<Sample> + '_ {
         move |_rope, point| {
-            Some(if drawn.iter().any(|p| distance(*p, point) < reach) {
+            Some(if drawn.iter().any(|p| distance(*p, point) < 0.3) {
                 Sample::OnMask
             } else {
                 Sample::Missed
@@ -728,8 +739,7 @@ mod tests {
     /// down across a second pulley to a third, round it and back over the second, which it wraps
     /// down to a cube. The stretch down lies over the second pulley's disc, which the rope wraps
     /// itself further on.
-    #[test]
-    fn a_rope_crossing_over_its_own_pulley_is_read() {
+    fn figure_of_eight() -> (Vec<Node>, RopePath) {
         let solid = NodeKind::StaticPulley { solid: true };
         let nodes = vec![
             node(NodeKind::Load, -1.6, -4.8),
@@ -738,7 +748,7 @@ mod tests {
             node(solid, 0.3, -11.1),
             node(NodeKind::Load, -5.0, -16.5),
         ];
-        let truth = RopePath::unscored(
+        let path = RopePath::unscored(
             vec![0, 1, 3, 2, 4],
             vec![
                 None,
@@ -748,6 +758,12 @@ mod tests {
                 None,
             ],
         );
+        (nodes, path)
+    }
+
+    #[test]
+    fn a_rope_crossing_over_its_own_pulley_is_read() {
+        let (nodes, truth) = figure_of_eight();
         let segments = truth.segments(&nodes);
         let (start, end) = segments[1];
         assert!(
@@ -755,29 +771,25 @@ mod tests {
             "the stretch down passes over the second pulley"
         );
         let drawn = truth.polyline(&nodes, 0.05);
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn, 0.3));
+        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
         let path = read[0].as_ref().unwrap();
         assert_eq!(path.nodes, truth.nodes);
         assert_eq!(path.turns, truth.turns);
     }
 
-    /// The pulleys each segment of `path` passes within the graze margin of, as the search
-    /// records them: (pulley, segment index).
+    /// The pulleys each segment of `path` passes over, as the search records them: (pulley,
+    /// segment index).
     fn crossings_of(nodes: &[Node], path: &RopePath) -> Vec<(usize, usize)> {
-        let mut crossings = Vec::new();
-        for (index, (start, end)) in path.segments(nodes).into_iter().enumerate() {
-            for (pulley, node) in nodes.iter().enumerate() {
-                if pulley != path.nodes[index]
-                    && pulley != path.nodes[index + 1]
-                    && node.kind.wrap_radius().is_some_and(|radius| {
-                        distance_to_segment(node.centre, start, end) < radius + GRAZE
-                    })
-                {
-                    crossings.push((pulley, index));
-                }
-            }
-        }
-        crossings
+        path.segments(nodes)
+            .into_iter()
+            .enumerate()
+            .flat_map(|(index, geometry)| {
+                let ends = [path.nodes[index], path.nodes[index + 1]];
+                passed_pulleys(nodes, ends, geometry)
+                    .into_iter()
+                    .map(move |pulley| (pulley, index))
+            })
+            .collect()
     }
 
     /// Seed 9473's video 45, in units from its first frame: a rope from a cube over a pulley and
@@ -817,24 +829,7 @@ mod tests {
             crossings.into_iter()
         ));
 
-        let solid = NodeKind::StaticPulley { solid: true };
-        let nodes = vec![
-            node(NodeKind::Load, -1.6, -4.8),
-            node(solid, 0.0, 0.0),
-            node(solid, -3.2, -11.1),
-            node(solid, 0.3, -11.1),
-            node(NodeKind::Load, -5.0, -16.5),
-        ];
-        let figure_of_eight = RopePath::unscored(
-            vec![0, 1, 3, 2, 4],
-            vec![
-                None,
-                Some(Turn::Clockwise),
-                Some(Turn::CounterClockwise),
-                Some(Turn::CounterClockwise),
-                None,
-            ],
-        );
+        let (nodes, figure_of_eight) = figure_of_eight();
         let crossings = crossings_of(&nodes, &figure_of_eight);
         assert!(crossings.contains(&(2, 1)), "{crossings:?}");
         assert!(crossings_hold(
@@ -855,7 +850,7 @@ mod tests {
         ];
         let straight = RopePath::unscored(vec![0, 2], vec![None, None]);
         let drawn = straight.polyline(&nodes, 0.05);
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn, 0.3));
+        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
         assert!(
             read[0].as_ref().is_none_or(|path| path.nodes != vec![0, 2]),
             "{read:?}"
