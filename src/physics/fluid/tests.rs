@@ -1,12 +1,13 @@
 //! The solver against known answers: a fluid at rest stays at rest with a flat surface, denser
 //! fluid sinks, particles are only added by emitters, nothing crosses a thin collider, viscosity
-//! slows a flow, and the bytes of a run never change.
+//! slows a flow, surface tension rounds a drop, and the bytes of a run never change.
 
 use super::*;
 
 const WATER: FluidMaterial = FluidMaterial {
     rest_density: 1600.0,
     viscosity: 0.02,
+    surface_tension: 1.0,
 };
 
 fn wall(start: [f64; 2], end: [f64; 2]) -> Collider {
@@ -151,10 +152,12 @@ fn the_denser_fluid_sinks_through_the_lighter_one() {
     let light = FluidMaterial {
         rest_density: 1200.0,
         viscosity: 0.02,
+        surface_tension: 1.0,
     };
     let heavy = FluidMaterial {
         rest_density: 5400.0,
         viscosity: 0.02,
+        surface_tension: 1.0,
     };
     let mut world = world(vec![light, heavy], tank(16.0 * s), Vec::new());
     block(&mut world, 0, [0.0, 0.0], 16, 8);
@@ -223,6 +226,7 @@ fn a_sticky_fluid_runs_down_a_ramp_slower_than_a_non_sticky_one() {
         let fluid = FluidMaterial {
             rest_density: 1600.0,
             viscosity,
+            surface_tension: 1.0,
         };
         let mut world = world(vec![fluid], vec![ramp(0.5)], Vec::new());
         // A blob resting just above the ramp's top.
@@ -261,6 +265,7 @@ fn a_run_is_bit_for_bit_the_same() {
     let thick = FluidMaterial {
         rest_density: 4400.0,
         viscosity: 10.0,
+        surface_tension: 1.0,
     };
     let mut world = world(vec![WATER, thick], tank(1.0), vec![emitter]);
     block(&mut world, 0, [0.0, 0.0], 10, 4);
@@ -274,7 +279,7 @@ fn a_run_is_bit_for_bit_the_same() {
     let digest = crate::util::content_hash(&bytes);
     assert_eq!(
         digest,
-        "783b2e8035c675839249bd29ac9fbff8c71b3ad83d2a1555a7e2d30f326d1642"
+        "f7cf56f62269fe3cb55b7920e1bb52e558c4d112e44f2f84bf0ec447d3e228bd"
     );
 }
 
@@ -288,5 +293,66 @@ fn bad_settings_are_refused() {
     assert_eq!(
         error.to_string(),
         "fluid solver setting `spacing` is 0: must be positive and finite"
+    );
+}
+
+/// The largest distance of a fluid's particles from their centroid over the radius of a disc of
+/// their area (1 for a round drop, 1.24 for a square).
+fn roughness(world: &FluidWorld) -> f64 {
+    let s = FluidParameters::default().spacing;
+    let points = world.positions();
+    let n = points.len() as f64;
+    let centre = points
+        .iter()
+        .fold([0.0, 0.0], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
+    let farthest = points
+        .iter()
+        .map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1]))
+        .fold(0.0, f64::max);
+    // The outermost particle centres lie half a spacing inside the fluid's edge.
+    (farthest + 0.5 * s) / (n * s * s / std::f64::consts::PI).sqrt()
+}
+
+#[test]
+fn surface_tension_rounds_a_floating_block_into_a_drop() {
+    let floating = |surface_tension: f64| {
+        let fluid = FluidMaterial {
+            surface_tension,
+            ..WATER
+        };
+        let parameters = FluidParameters {
+            gravity: 0.0,
+            ..FluidParameters::default()
+        };
+        let mut world =
+            FluidWorld::new(parameters, vec![fluid], Vec::new(), Vec::new(), 7).unwrap();
+        block(&mut world, 0, [1.0, 1.0], 20, 20);
+        let square = roughness(&world);
+        run(&mut world, 120);
+        (square, roughness(&world), world)
+    };
+    let (square, still, _) = floating(0.0);
+    let (_, rounded, world) = floating(1.0);
+    // The corner particle sits 9.5·√2 + 0.5 spacings out, the disc's radius is 20/√π.
+    let expected = (9.5 * std::f64::consts::SQRT_2 + 0.5) / (20.0 / std::f64::consts::PI.sqrt());
+    eprintln!("roughness: square {square:.3}, without tension {still:.3}, with {rounded:.3}");
+    assert!(
+        (square - expected).abs() < 1e-9,
+        "a square starts at {square:.3}"
+    );
+    assert!(
+        still > 1.2,
+        "without surface tension the block keeps its corners: {still:.3}"
+    );
+    assert!(
+        rounded < 1.1,
+        "with surface tension it becomes a drop: {rounded:.3}"
+    );
+    // Cohesion pulls the surface in without collapsing the drop.
+    let ratios = world.density_ratios();
+    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    assert!(
+        mean < 1.05,
+        "the drop is not compressed: mean number density {mean:.3}"
     );
 }
