@@ -255,6 +255,32 @@ impl<'a> Node<'a> {
             _ => Ok(values),
         }
     }
+    /// A Unity `Vector3.ToString()` string such as `"(1.23, 0.45, 0.00)"` (the release writes
+    /// some vectors this way; `docs/data/common.md`).
+    pub(crate) fn unity_vector3(&self) -> Result<[f64; 3], DatasetError> {
+        let text = self.string()?;
+        parse_unity_vector3(&text).ok_or_else(|| {
+            self.error(format!(
+                "must be a Unity vector string \"(x, y, z)\" of three finite numbers, found \"{text}\""
+            ))
+        })
+    }
+
+    /// A C# value tuple of two numbers, `{"Item1": a, "Item2": b}`.
+    pub(crate) fn number_pair(&self) -> Result<[f64; 2], DatasetError> {
+        Ok([
+            self.field("Item1", |n| n.number())?,
+            self.field("Item2", |n| n.number())?,
+        ])
+    }
+}
+
+/// Parses `"(x, y, z)"`: parentheses, three comma-separated finite numbers, spaces anywhere.
+fn parse_unity_vector3(text: &str) -> Option<[f64; 3]> {
+    let inner = text.trim().strip_prefix('(')?.strip_suffix(')')?;
+    let mut parts = inner.split(',').map(|part| part.trim().parse::<f64>().ok());
+    let vector = [parts.next()??, parts.next()??, parts.next()??];
+    (parts.next().is_none() && vector.iter().all(|c| c.is_finite())).then_some(vector)
 }
 
 /// A short name for the JSON type of `value`, for error messages.
@@ -292,6 +318,38 @@ mod tests {
             missing.to_string(),
             "`outputs.json`: field `a.c` is missing"
         );
+    }
+
+    #[test]
+    fn unity_vectors_parse_and_bad_ones_name_the_field() {
+        let cases = [
+            ("(1.23, 0.45, 0.00)", Some([1.23, 0.45, 0.0])),
+            ("(-2.5,3,1e-2)", Some([-2.5, 3.0, 0.01])),
+            (" ( 0.00 , -0.10 , 7.00 ) ", Some([0.0, -0.1, 7.0])),
+            ("(1.0, 2.0)", None),
+            ("(1.0, 2.0, 3.0, 4.0)", None),
+            ("1.0, 2.0, 3.0", None),
+            ("(1.0, x, 3.0)", None),
+            ("(NaN, 0, 0)", None),
+            ("(inf, 0, 0)", None),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(parse_unity_vector3(text), expected, "{text}");
+        }
+        let value =
+            json!({"stick": {"position": "(1.0, 2.0)", "startP": {"Item1": 0.5, "Item2": -1}}});
+        let root = Node::root(Path::new("outputs.json"), &value);
+        let error = root
+            .field("stick", |n| n.field("position", |p| p.unity_vector3()))
+            .unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "`outputs.json`: field `stick.position` must be a Unity vector string \"(x, y, z)\" of three finite numbers, found \"(1.0, 2.0)\""
+        );
+        let pair = root
+            .field("stick", |n| n.field("startP", |p| p.number_pair()))
+            .unwrap();
+        assert_eq!(pair.map(f64::to_bits), [0.5_f64, -1.0].map(f64::to_bits));
     }
 
     #[test]

@@ -7,12 +7,14 @@
 //! (`engine/<scenario>/`); the scenario table (`scenarios`) names each scenario's engine.
 //!
 //! Only the rope engine is public (`rope`, a re-implementation of the release's
-//! `question_engine_pulley.py`); the others follow the paper's templates as their issues land.
+//! `question_engine_pulley.py`); the others follow the paper's templates as their issues land
+//! (`fluid`, issue 13).
 //! Randomness comes from seeded ChaCha8 streams derived from the seed, the scenario and the video
 //! id, so the same inputs give byte-identical files. This module depends only on `dataset` types
 //! and `util`.
 
 mod error;
+pub mod fluid;
 pub(crate) mod record;
 pub mod rope;
 mod sampler;
