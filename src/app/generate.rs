@@ -156,8 +156,8 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         data: settings.out.clone(),
         out: settings.out.clone(),
         seed: settings.seed,
-        fact_per_video: 2,
-        dynamics_per_video: 2,
+        fact_per_video: None,
+        dynamics_per_video: None,
     })
 }
 

@@ -80,8 +80,12 @@ fn scenario_questions(
         per_video.push(questions);
     }
     let config = SamplerConfig {
-        fact_per_video: settings.fact_per_video,
-        dynamics_per_video: settings.dynamics_per_video,
+        fact_per_video: settings
+            .fact_per_video
+            .unwrap_or(engine.per_video.fact_per_video),
+        dynamics_per_video: settings
+            .dynamics_per_video
+            .unwrap_or(engine.per_video.dynamics_per_video),
     };
     let splits = sample_and_split(scenario, &per_video, &config, settings.seed);
     // Families in the engine's template order.

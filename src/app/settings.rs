@@ -255,10 +255,12 @@ pub struct QuestionsSettings {
     pub out: PathBuf,
     /// Engine and sampler seed.
     pub seed: u64,
-    /// Property questions per video.
-    pub fact_per_video: usize,
-    /// Dynamics questions per video.
-    pub dynamics_per_video: usize,
+    /// Property questions per video (`None`: the engine's, [`QuestionEngine::per_video`]).
+    ///
+    /// [`QuestionEngine::per_video`]: crate::dataset::engine::QuestionEngine::per_video
+    pub fact_per_video: Option<usize>,
+    /// Dynamics questions per video (`None`: the engine's).
+    pub dynamics_per_video: Option<usize>,
 }
 
 /// `score` settings.

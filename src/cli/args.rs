@@ -394,12 +394,12 @@ pub struct QuestionsArgs {
     /// Seed of the question engine and sampler.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Property questions sampled per video.
-    #[arg(long, value_name = "N", default_value_t = 2)]
-    fact_per_video: usize,
-    /// Dynamics questions sampled per video.
-    #[arg(long, value_name = "N", default_value_t = 2)]
-    dynamics_per_video: usize,
+    /// Property questions sampled per video [default: the paper's, rope 2, fluid 1].
+    #[arg(long, value_name = "N")]
+    fact_per_video: Option<usize>,
+    /// Dynamics questions sampled per video [default: 2].
+    #[arg(long, value_name = "N")]
+    dynamics_per_video: Option<usize>,
 }
 
 /// `generate` arguments.

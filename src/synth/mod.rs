@@ -19,7 +19,9 @@
 pub mod annotate;
 pub mod appearance;
 pub mod background;
+pub mod camera;
 mod error;
+pub mod fluid;
 pub mod mesh;
 pub use crate::perception::palette;
 pub mod raster;

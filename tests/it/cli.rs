@@ -42,8 +42,8 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
     // tell the scenario.
     fs_err::write(
         path.join("questions.json"),
-        r#"[{"question": "Is the fluid density of the red fluid greater than that of the blue fluid?", "answer": "no", "question_family": "density",
-             "answer_type": "open_ended", "qtype": "density", "video_id": "7", "question_id": "00001", "split": "test"}]"#,
+        r#"[{"question": "Is the cloth warmer than the blue ball?", "answer": "no", "question_family": "warmth",
+             "answer_type": "open_ended", "qtype": "warmth", "video_id": "7", "question_id": "00001", "split": "test"}]"#,
     )
     .unwrap();
     fs_err::write(path.join("program.py"), "answer = 1\n").unwrap();
@@ -275,6 +275,8 @@ fn a_missing_decoder_stops_commands_before_their_first_unit() {
             "generate",
             vec![
                 "generate",
+                "--scenario",
+                "rope",
                 "--videos",
                 "1",
                 "--frames",

@@ -29,6 +29,8 @@ fn generate_with(
 ) -> std::process::Output {
     let mut args = vec![
         "generate",
+        "--scenario",
+        "rope",
         "--videos",
         videos,
         "--seed",
@@ -215,11 +217,12 @@ fn bad_generate_requests_fail_with_one_line() {
     let out = tempfile::tempdir().unwrap();
     let target = out.path().join("data");
     let target = target.to_str().unwrap();
-    let cases: [(&str, Vec<&str>, i32); 5] = [
+    let cases: [(&str, Vec<&str>, i32); 6] = [
         ("no_videos", vec!["--videos", "0"], 1),
+        ("no_scenario", vec!["--videos", "1"], 1),
         (
             "scenario_without_generator",
-            vec!["--videos", "1", "--scenario", "fluid"],
+            vec!["--videos", "1", "--scenario", "cloth"],
             1,
         ),
         (
@@ -229,7 +232,7 @@ fn bad_generate_requests_fail_with_one_line() {
         ),
         (
             "mp4_without_ffmpeg",
-            vec!["--videos", "1", "--frames", "mp4"],
+            vec!["--videos", "1", "--scenario", "rope", "--frames", "mp4"],
             1,
         ),
         (
@@ -302,5 +305,100 @@ fn a_randomised_appearance_changes_the_pixels_only() {
         stderr(&mixed).contains("\"appearance\":\"randomized\""),
         "{}",
         stderr(&mixed)
+    );
+}
+
+/// A short fluid trial (the release's timeline would take minutes in a debug build): 120
+/// updates, 80 captured, later emitters at 50, 80 particles an emitter.
+const SHORT_FLUID: contphy_eval::synth::fluid::FluidSynth =
+    contphy_eval::synth::fluid::FluidSynth {
+        timeline: contphy_eval::synth::fluid::simulate::Timeline {
+            factual_updates: 120,
+            capture_updates: 80,
+            emitters_open: 2,
+            later_emitters_open: 50,
+            capacity: 80,
+        },
+    };
+
+#[test]
+fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks() {
+    use contphy_eval::dataset::engine::fluid::ENGINE;
+    use contphy_eval::dataset::fluid::FluidAnnotation;
+    use contphy_eval::synth::{
+        GenerateOptions, appearance::Appearance, generate, video::FrameOutput,
+    };
+    let out = tempfile::tempdir().unwrap();
+    let options = GenerateOptions {
+        scenario: Scenario::Fluid,
+        videos: 1,
+        seed: 4,
+        out: out.path().to_path_buf(),
+        jobs: 1,
+        frames: FrameOutput::Png,
+        width: 192,
+        height: 108,
+        appearance: Appearance::Release,
+    };
+    generate(&SHORT_FLUID, &options, &|_| {}).unwrap();
+    let data = DataRoot::open(out.path()).unwrap();
+    let listing = data.list_videos(Scenario::Fluid).unwrap();
+    let video = &listing.valid[0];
+    let annotation = FluidAnnotation::load(&video.outputs_json()).unwrap();
+    assert_eq!(annotation.frame_count, 40);
+    assert!((3..=4).contains(&annotation.layout.fluids.len()));
+    assert!(
+        !annotation.counterfactuals.is_empty(),
+        "the release always removes a stick"
+    );
+    // The engine reads what the generator wrote: every family is present.
+    let questions = (ENGINE.generate)(video, 0).unwrap();
+    assert_eq!(questions.question_dict.len(), ENGINE.families.len());
+    let stick_number = &questions.question_dict["stick_number"];
+    let sticks = annotation.layout.sticks.len().to_string();
+    assert!(stick_number.iter().all(|record| record.answer == sticks));
+    let raw: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
+    let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
+    let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
+    let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
+    let frames = [0_usize, 39];
+    let images = segmentation.read(&frames).unwrap();
+    let mut fluids_seen = 0;
+    for (frame, image) in frames.iter().zip(&images) {
+        for (id, [x0, y0, width, height]) in boxes(&per_frame[(frame + 1).to_string()]) {
+            let color = &instance_color(id)[..3];
+            let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
+            for y in 0..image.height {
+                for x in 0..image.width {
+                    if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
+                        low_x = low_x.min(x);
+                        low_y = low_y.min(y);
+                        high_x = high_x.max(x);
+                        high_y = high_y.max(y);
+                    }
+                }
+            }
+            let name = names[id.to_string()].as_str().unwrap();
+            assert!(
+                low_x != u32::MAX,
+                "{name} has a box but no mask in frame {frame}"
+            );
+            let mask_box = [low_x, low_y, high_x - low_x + 1, high_y - low_y + 1].map(f64::from);
+            // Whole pixels on both sides: equal means equal.
+            assert!(
+                mask_box
+                    .iter()
+                    .zip([x0, y0, width, height])
+                    .all(|(a, b)| (a - b).abs() < 1e-9),
+                "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
+                [x0, y0, width, height]
+            );
+            fluids_seen += usize::from(name.ends_with("Fluid"));
+        }
+    }
+    assert!(
+        fluids_seen >= 3,
+        "the fluids are drawn and labelled: {fluids_seen}"
     );
 }

@@ -147,6 +147,8 @@ fn generated_videos_questions_and_their_runs_are_unchanged() {
         &root(),
         &[
             "generate",
+            "--scenario",
+            "rope",
             "--videos",
             "3",
             "--seed",

@@ -32,4 +32,7 @@ pub struct QuestionEngine {
     /// Every family's questions for one video: reads the video's annotations and generates from
     /// them with the given seed.
     pub generate: fn(&VideoFolder, u64) -> Result<PerVideoQuestions, EngineError>,
+    /// Questions the sampler draws per video unless told otherwise (the paper: rope 2 + 2, the
+    /// other scenarios 1 property + 2 dynamics).
+    pub per_video: SamplerConfig,
 }

@@ -7,6 +7,33 @@
 //! and predicted positions with its radius. Output: the predicted position moved to the
 //! collider's surface with friction applied to the sliding part of the move, or left alone.
 
+use super::norm;
+
+/// Shortest distance between segments `a0`–`a1` and `b0`–`b1`, units (0 when they cross).
+fn segment_distance(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> f64 {
+    let cross = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
+        (p[0] - o[0]) * (q[1] - o[1]) - (q[0] - o[0]) * (p[1] - o[1])
+    };
+    if cross(a0, a1, b0) * cross(a0, a1, b1) <= 0.0 && cross(b0, b1, a0) * cross(b0, b1, a1) <= 0.0
+    {
+        return 0.0;
+    }
+    let to_segment = |p: [f64; 2], s0: [f64; 2], s1: [f64; 2]| {
+        let along = [s1[0] - s0[0], s1[1] - s0[1]];
+        let squared = along[0] * along[0] + along[1] * along[1];
+        let t = if squared > 0.0 {
+            (((p[0] - s0[0]) * along[0] + (p[1] - s0[1]) * along[1]) / squared).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        norm(p[0] - s0[0] - t * along[0], p[1] - s0[1] - t * along[1])
+    };
+    to_segment(a0, b0, b1)
+        .min(to_segment(a1, b0, b1))
+        .min(to_segment(b0, a0, a1))
+        .min(to_segment(b1, a0, a1))
+}
+
 /// A static collider: a capsule round the segment `start`–`end` (units), with its surface
 /// material.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,7 +71,7 @@ impl Collider {
     /// Distance from `point` to the centre line, units.
     fn distance(&self, point: [f64; 2]) -> f64 {
         let c = self.closest(point);
-        (point[0] - c[0]).hypot(point[1] - c[1])
+        norm(point[0] - c[0], point[1] - c[1])
     }
 
     /// The point of the centre line closest to `point`, the distance to it, and the outward
@@ -52,15 +79,27 @@ impl Collider {
     fn outward(&self, point: [f64; 2]) -> ([f64; 2], f64, [f64; 2]) {
         let centre = self.closest(point);
         let offset = [point[0] - centre[0], point[1] - centre[1]];
-        let length = offset[0].hypot(offset[1]);
+        let length = norm(offset[0], offset[1]);
         let normal = if length > 1e-12 {
             [offset[0] / length, offset[1] / length]
         } else {
             let along = [self.end[0] - self.start[0], self.end[1] - self.start[1]];
-            let norm = along[0].hypot(along[1]).max(1e-12);
-            [-along[1] / norm, along[0] / norm]
+            let along_length = norm(along[0], along[1]).max(1e-12);
+            [-along[1] / along_length, along[0] / along_length]
         };
         (centre, length, normal)
+    }
+
+    /// Whether `point` may lie within `margin` (units) of this collider's surface: `false` only
+    /// when it is outside the centre line's bounding box grown by the half thickness and the
+    /// margin (and a nanometre, so rounding never skips a real contact). A few comparisons, done
+    /// before the distance for every particle–collider pair, so far pairs cost next to nothing.
+    pub(crate) fn near(&self, point: [f64; 2], margin: f64) -> bool {
+        let reach = self.half_thickness + margin + 1e-9;
+        point[0] >= self.start[0].min(self.end[0]) - reach
+            && point[0] <= self.start[0].max(self.end[0]) + reach
+            && point[1] >= self.start[1].min(self.end[1]) - reach
+            && point[1] <= self.start[1].max(self.end[1]) + reach
     }
 
     /// Distance from `point` to this collider's surface (negative inside), units, and the
@@ -77,8 +116,8 @@ impl Collider {
         let reach = self.half_thickness + radius;
         // The distance to the centre line changes no faster than the particle moves: a move
         // shorter than its start's clearance cannot touch (most particle–collider pairs).
-        let travel = (predicted[0] - from[0]).hypot(predicted[1] - from[1]);
-        if self.distance(from) - travel >= reach {
+        let travel = norm(predicted[0] - from[0], predicted[1] - from[1]);
+        if !self.near(from, radius + travel) || self.distance(from) - travel >= reach {
             return false;
         }
         let at = |t: f64| {
@@ -87,27 +126,29 @@ impl Collider {
                 from[1] + t * (predicted[1] - from[1]),
             ]
         };
-        // The distance to a segment along a straight move is convex in the move's parameter,
-        // so its minimum is found by ternary search and the first touch by bisection before it.
-        let (mut low, mut high) = (0.0_f64, 1.0_f64);
-        for _ in 0..40 {
-            let (a, b) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
-            if self.distance(at(a)) <= self.distance(at(b)) {
-                high = b;
-            } else {
-                low = a;
-            }
-        }
-        let nearest = 0.5 * (low + high);
-        if self.distance(at(nearest)) >= reach && self.distance(at(1.0)) >= reach {
-            return false;
-        }
         let touch = if self.distance(from) < reach {
-            // Already inside (only after an earlier correction pushed it there): push out from
-            // where it starts.
+            // Already inside (resting particles jitter into the contact distance, and an earlier
+            // correction can push one there): push out from where it starts.
             0.0
         } else {
-            let (mut outside, mut inside) = (0.0_f64, nearest);
+            // The move touches only if it comes closer to the centre line than `reach`: the
+            // shortest distance between two segments, in closed form.
+            if segment_distance(from, *predicted, self.start, self.end) >= reach {
+                return false;
+            }
+            // The distance to a segment along a straight move is convex in the move's
+            // parameter, so its minimum is found by ternary search and the first touch by
+            // bisection before it.
+            let (mut low, mut high) = (0.0_f64, 1.0_f64);
+            for _ in 0..40 {
+                let (a, b) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
+                if self.distance(at(a)) <= self.distance(at(b)) {
+                    high = b;
+                } else {
+                    low = a;
+                }
+            }
+            let (mut outside, mut inside) = (0.0_f64, 0.5 * (low + high));
             for _ in 0..50 {
                 let middle = 0.5 * (outside + inside);
                 if self.distance(at(middle)) < reach {
@@ -129,7 +170,7 @@ impl Collider {
         ];
         // Coulomb friction, as position-based solvers apply it: the slide loses at most
         // `friction` times the depth the move would have gone into the surface.
-        let slide = sliding[0].hypot(sliding[1]);
+        let slide = norm(sliding[0], sliding[1]);
         let keep = if slide > 1e-15 {
             (1.0 - self.friction.max(0.0) * (-normal_part).max(0.0) / slide).max(0.0)
         } else {

@@ -5,8 +5,6 @@
 //! Input: particle positions (units) and the kernel radius. Output: per particle, the indices of
 //! its neighbours (itself excluded).
 
-use std::collections::HashMap;
-
 /// The neighbours of every particle, in a flat list with offsets.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Neighbours {
@@ -17,40 +15,114 @@ pub(crate) struct Neighbours {
 
 impl Neighbours {
     /// Finds, for each position, every other position closer than `radius` (units).
+    ///
+    /// Particles are counting-sorted into a dense grid of cells over their bounding box (row by
+    /// row, each cell's particles by index), so the three cells of a row next to a particle's
+    /// are one contiguous run: the neighbours come out row by row, cells left to right,
+    /// particles by index.
     pub(crate) fn find(positions: &[[f64; 2]], radius: f64) -> Neighbours {
-        let cell_of = |p: [f64; 2]| -> (i64, i64) {
-            #[expect(
-                clippy::cast_possible_truncation,
-                reason = "finite positions over a positive radius are far inside i64"
-            )]
-            let cell = (
-                (p[0] / radius).floor() as i64,
-                (p[1] / radius).floor() as i64,
-            );
-            cell
+        let mut low = [f64::INFINITY; 2];
+        let mut high = [f64::NEG_INFINITY; 2];
+        for p in positions {
+            for axis in 0..2 {
+                low[axis] = low[axis].min(p[axis]);
+                high[axis] = high[axis].max(p[axis]);
+            }
+        }
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "non-negative offsets over a positive radius, bounded below"
+        )]
+        let cell =
+            |value: f64, axis: usize| ((value - low[axis]) / radius).floor().max(0.0) as usize;
+        let columns = if positions.is_empty() {
+            1
+        } else {
+            cell(high[0], 0) + 1
         };
-        // Cells are only looked up, never iterated, so their order cannot reach the output.
-        let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        let rows = if positions.is_empty() {
+            1
+        } else {
+            cell(high[1], 1) + 1
+        };
+        // A particle flung far away would make the dense grid huge: then the sorted search,
+        // whose memory grows only with the particles.
+        if columns.saturating_mul(rows) > 16 * positions.len() + (1 << 16) {
+            return Neighbours::find_sorted(positions, radius);
+        }
+        let cell_of = |p: [f64; 2]| cell(p[1], 1) * columns + cell(p[0], 0);
+        let mut cell_start = vec![0_usize; columns * rows + 1];
+        for &p in positions {
+            cell_start[cell_of(p) + 1] += 1;
+        }
+        for k in 1..cell_start.len() {
+            cell_start[k] += cell_start[k - 1];
+        }
+        let mut filled = cell_start.clone();
+        let mut sorted = vec![0_usize; positions.len()];
         for (index, &p) in positions.iter().enumerate() {
-            cells.entry(cell_of(p)).or_default().push(index);
+            let slot = &mut filled[cell_of(p)];
+            sorted[*slot] = index;
+            *slot += 1;
         }
         let squared = radius * radius;
         let mut start = Vec::with_capacity(positions.len() + 1);
         let mut index = Vec::new();
         for (i, &p) in positions.iter().enumerate() {
             start.push(index.len());
-            let (cx, cy) = cell_of(p);
+            let (row, column) = (cell(p[1], 1), cell(p[0], 0));
+            let (first, last) = (column.saturating_sub(1), (column + 1).min(columns - 1));
+            for r in row.saturating_sub(1)..=(row + 1).min(rows - 1) {
+                let run =
+                    &sorted[cell_start[r * columns + first]..cell_start[r * columns + last + 1]];
+                for &j in run {
+                    let q = positions[j];
+                    let d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]);
+                    if j != i && d2 < squared {
+                        index.push(j);
+                    }
+                }
+            }
+        }
+        start.push(index.len());
+        Neighbours { start, index }
+    }
+
+    /// [`Neighbours::find`] for widely scattered particles: sorted by cell, each row's run found
+    /// by binary search (the same order of neighbours).
+    fn find_sorted(positions: &[[f64; 2]], radius: f64) -> Neighbours {
+        let cell_of = |p: [f64; 2]| -> (i64, i64) {
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "finite positions over a positive radius are far inside i64"
+            )]
+            let cell = (
+                (p[1] / radius).floor() as i64,
+                (p[0] / radius).floor() as i64,
+            );
+            cell
+        };
+        let mut sorted: Vec<((i64, i64), usize)> = positions
+            .iter()
+            .enumerate()
+            .map(|(index, &p)| (cell_of(p), index))
+            .collect();
+        sorted.sort_unstable();
+        let squared = radius * radius;
+        let mut start = Vec::with_capacity(positions.len() + 1);
+        let mut index = Vec::new();
+        for (i, &p) in positions.iter().enumerate() {
+            start.push(index.len());
+            let (row, column) = cell_of(p);
             for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let Some(list) = cells.get(&(cx + dx, cy + dy)) else {
-                        continue;
-                    };
-                    for &j in list {
-                        let q = positions[j];
-                        let d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]);
-                        if j != i && d2 < squared {
-                            index.push(j);
-                        }
+                let from = sorted.partition_point(|&(cell, _)| cell < (row + dy, column - 1));
+                let to = sorted.partition_point(|&(cell, _)| cell <= (row + dy, column + 1));
+                for &(_, j) in &sorted[from..to] {
+                    let q = positions[j];
+                    let d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]);
+                    if j != i && d2 < squared {
+                        index.push(j);
                     }
                 }
             }
@@ -81,7 +153,18 @@ mod tests {
             })
             .collect();
         let radius = 0.2;
-        let found = Neighbours::find(&positions, radius);
+        // One particle flung far away sends the search to its sorted fallback.
+        let mut scattered = positions.clone();
+        scattered.push([1e5, -1e5]);
+        for (found, positions) in [
+            (Neighbours::find(&positions, radius), &positions),
+            (Neighbours::find(&scattered, radius), &scattered),
+        ] {
+            check(&found, positions, radius);
+        }
+    }
+
+    fn check(found: &Neighbours, positions: &[[f64; 2]], radius: f64) {
         for (i, p) in positions.iter().enumerate() {
             let mut expected: Vec<usize> = positions
                 .iter()

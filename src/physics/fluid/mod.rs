@@ -47,7 +47,7 @@ pub const GRAVITY: f64 = -4.8;
 pub const UPDATE_SECONDS: f64 = 1.0 / 60.0;
 
 /// The pull one neighbour exerts on a particle at surface tension 1, units/s², at the cohesion
-/// kernel's peak (half the kernel radius, [`cohesion_shape`]). Obi does not
+/// kernel's peak (half the kernel radius; Akinci's spline). Obi does not
 /// publish its scale; at this value a surface particle is pulled inwards by about gravity's
 /// size, which rounds a floating block into a drop within a second without shaking a fluid at
 /// rest (the hydrostatic test holds with it).
@@ -298,7 +298,7 @@ impl FluidWorld {
                 // Two particles almost on top of each other (a fast emitter row landing on
                 // the last one) would be thrown apart by the kernel's steep gradient: no
                 // iteration moves a particle more than half a spacing.
-                let length = c[0].hypot(c[1]);
+                let length = norm(c[0], c[1]);
                 let shrink = if length > largest {
                     largest / length
                 } else {
@@ -408,6 +408,9 @@ impl FluidWorld {
         let mut density = 0.0;
         let mut gradient = [0.0, 0.0];
         for collider in &self.colliders {
+            if !collider.near(point, h) {
+                continue;
+            }
             let (gap, normal) = collider.surface_gap(point);
             if gap >= h {
                 continue;
@@ -441,6 +444,7 @@ impl FluidWorld {
             let wall = self
                 .colliders
                 .iter()
+                .filter(|collider| collider.near(positions[i], h + 0.5 * self.parameters.spacing))
                 .map(|collider| {
                     let gap = collider.surface_gap(positions[i]).0 - 0.5 * self.parameters.spacing;
                     if gap < h {
@@ -492,7 +496,7 @@ impl FluidWorld {
                     positions[j][0] - positions[i][0],
                     positions[j][1] - positions[i][1],
                 ];
-                let distance = offset[0].hypot(offset[1]);
+                let distance = norm(offset[0], offset[1]);
                 if distance <= 1e-12 {
                     continue;
                 }
@@ -515,11 +519,11 @@ impl FluidWorld {
             if self.update < emitter.opens_at || *count >= emitter.capacity {
                 continue;
             }
-            let norm = emitter.direction[0].hypot(emitter.direction[1]);
-            if !(norm.is_finite() && norm > 0.0) {
+            let length = norm(emitter.direction[0], emitter.direction[1]);
+            if !(length.is_finite() && length > 0.0) {
                 continue;
             }
-            let direction = [emitter.direction[0] / norm, emitter.direction[1] / norm];
+            let direction = [emitter.direction[0] / length, emitter.direction[1] / length];
             let across = [-direction[1], direction[0]];
             *travelled += emitter.speed * dt;
             #[expect(
@@ -572,6 +576,13 @@ impl FluidWorld {
     }
 }
 
+/// The length of `(x, y)`: a square root, which is correctly rounded (the same bits in every
+/// build) and several times faster than `hypot`, whose overflow care these small lengths do not
+/// need.
+pub(crate) fn norm(x: f64, y: f64) -> f64 {
+    (x * x + y * y).sqrt()
+}
+
 /// The 2D poly6 kernel of radius `radius`, normalised to integrate to 1 over the plane, between
 /// points `first` and `second`.
 fn poly6(first: [f64; 2], second: [f64; 2], radius: f64) -> f64 {
@@ -617,7 +628,7 @@ fn spiky_gradient_peak(radius: f64) -> f64 {
 /// kernel radius `radius`, `r` the distance to `second`).
 fn spiky_gradient(first: [f64; 2], second: [f64; 2], radius: f64) -> [f64; 2] {
     let offset = [first[0] - second[0], first[1] - second[1]];
-    let distance = offset[0].hypot(offset[1]);
+    let distance = norm(offset[0], offset[1]);
     if distance >= radius || distance <= 1e-12 {
         return [0.0, 0.0];
     }

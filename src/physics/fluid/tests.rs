@@ -279,7 +279,7 @@ fn a_run_is_bit_for_bit_the_same() {
     let digest = crate::util::content_hash(&bytes);
     assert_eq!(
         digest,
-        "f7cf56f62269fe3cb55b7920e1bb52e558c4d112e44f2f84bf0ec447d3e228bd"
+        "bb70035e7ad93aff7e0211ae15ef47c2c07fe96fb760769d6e399feb087e7db6"
     );
 }
 

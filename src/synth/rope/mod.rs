@@ -16,9 +16,10 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Map, Value, json};
 
 use self::layout::{ElementKind, Layout, sample_layout};
-use self::scene::{RopeScene, frame_camera, sample_camera};
+use self::scene::{FIELD_PADDING, RopeScene, sample_camera};
 use self::simulate::{Change, RunResult, TruthModel, build_truth, run};
 use super::background::Wall;
+use super::camera::frame_camera;
 use super::raster::Light;
 use super::shadow::RELEASE_SHADOW;
 use super::{ScenarioSynth, SynthError, SynthesizedVideo};
@@ -103,7 +104,13 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<Trial, String>
     let Some(first) = factual.frames.first() else {
         return Err("the factual run recorded no frames".into());
     };
-    let camera = frame_camera(&camera_sample, scene.bounds(&model, first), width, height);
+    let camera = frame_camera(
+        &camera_sample,
+        scene.bounds(&model, first),
+        FIELD_PADDING,
+        width,
+        height,
+    );
     let mut steps = factual.steps;
     let counterfactuals =
         counterfactuals(&layout, &model, &camera, camera_sample.mirrored, &mut steps)

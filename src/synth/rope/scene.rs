@@ -4,7 +4,7 @@
 //! the per-frame drawables, and the 4-D records (`outputs4D.json`) of the same geometry.
 //!
 //! Input: a [`TruthModel`] and the factual run's recorded [`FrameState`]s. Output: items per
-//! frame, a [`CameraModel`], labels, and the 4-D JSON. Units: world units; angles in degrees in
+//! frame, a [`CameraModel`](crate::perception::camera::CameraModel), labels, and the 4-D JSON. Units: world units; angles in degrees in
 //! the JSON as the release writes them.
 
 use std::f64::consts::PI;
@@ -16,10 +16,10 @@ use serde_json::{Value, json};
 
 use super::simulate::{BodyRole, FrameState, TruthModel};
 use crate::dataset::rope::world;
-use crate::perception::camera::CameraModel;
 use crate::physics::rope::Mount;
 use crate::synth::Item;
 use crate::synth::annotate::LabelledObject;
+use crate::synth::camera::{CameraSample, truncated_normal};
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
 use crate::synth::raster::Stripes;
@@ -27,7 +27,7 @@ use crate::synth::raster::Stripes;
 /// The release camera's look-at point before re-framing.
 const LOOK_AT: [f64; 3] = [-8.9, 0.0, 0.0];
 /// Padding added to the framing distance, units.
-const FIELD_PADDING: f64 = 6.0;
+pub const FIELD_PADDING: f64 = 6.0;
 /// Sides of rope tubes when rendered.
 const ROPE_SIDES: u32 = 8;
 /// The release's twisted rope: dark grooves between strands about every 0.2 units, winding
@@ -45,35 +45,6 @@ const PARTICLE_SPACING: f64 = 0.5;
 /// Spacing of the voxels written to `rigidbodyVoxelPosition`, units (the release used 0.07
 /// with a mesh voxelizer; a coarser interior grid keeps the files small).
 const VOXEL_SPACING: f64 = 0.25;
-
-/// The sampled camera before re-framing.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CameraSample {
-    /// Position, units.
-    pub position: [f64; 3],
-    /// Vertical field of view, degrees.
-    pub vertical_fov_deg: f64,
-    /// The camera sits at −z (the release's `mirrored = 1`).
-    pub mirrored: bool,
-}
-
-/// A standard normal draw (Box–Muller).
-fn normal(rng: &mut ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
-}
-
-/// A normal draw truncated to `[low, high]` (the release's `NormalSampler`), by rejection.
-fn truncated_normal(rng: &mut ChaCha8Rng, mean: f64, sd: f64, low: f64, high: f64) -> f64 {
-    for _ in 0..1000 {
-        let value = mean + sd * normal(rng);
-        if (low..=high).contains(&value) {
-            return value;
-        }
-    }
-    mean.clamp(low, high)
-}
 
 /// Samples the camera as the release's `CameraRandomizer` does.
 pub fn sample_camera(rng: &mut ChaCha8Rng) -> CameraSample {
@@ -94,42 +65,6 @@ pub fn sample_camera(rng: &mut ChaCha8Rng) -> CameraSample {
         vertical_fov_deg,
         mirrored,
     }
-}
-
-/// Re-frames the camera on world bounds (`EncapsulateObjects`): the distance that fits the larger
-/// of the bounds' width and height in the vertical field of view, plus padding, along the sampled
-/// viewing direction, aimed at the bounds' centre.
-pub fn frame_camera(
-    sample: &CameraSample,
-    bounds: ([f64; 3], [f64; 3]),
-    width: u32,
-    height: u32,
-) -> CameraModel {
-    let (low, high) = bounds;
-    let centre = [
-        f64::midpoint(low[0], high[0]),
-        f64::midpoint(low[1], high[1]),
-        f64::midpoint(low[2], high[2]),
-    ];
-    let size = (high[0] - low[0]).max(high[1] - low[1]);
-    let distance = size * 0.5 / (sample.vertical_fov_deg.to_radians() / 2.0).tan() + FIELD_PADDING;
-    let direction = [
-        sample.position[0] - centre[0],
-        sample.position[1] - centre[1],
-        sample.position[2] - centre[2],
-    ];
-    let length = (direction[0].powi(2) + direction[1].powi(2) + direction[2].powi(2)).sqrt();
-    let unit = if length > 0.0 {
-        direction.map(|c| c / length)
-    } else {
-        [0.0, 0.0, if sample.mirrored { -1.0 } else { 1.0 }]
-    };
-    let position = [
-        centre[0] + unit[0] * distance,
-        centre[1] + unit[1] * distance,
-        centre[2] + unit[2] * distance,
-    ];
-    CameraModel::looking_at(position, centre, sample.vertical_fov_deg, width, height)
 }
 
 /// The release's label ids and names (`PulleyGroupIdLabelConfig`).

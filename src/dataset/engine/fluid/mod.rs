@@ -61,7 +61,7 @@ mod tests;
 
 use indexmap::IndexMap;
 
-use super::{EngineError, QuestionEngine};
+use super::{EngineError, QuestionEngine, SamplerConfig};
 use crate::dataset::fluid::FluidAnnotation;
 use crate::dataset::{PerVideoQuestions, QuestionRecord, VideoFolder, VideoId};
 use crate::util::{derive_seed, seeded_rng};
@@ -70,6 +70,10 @@ use crate::util::{derive_seed, seeded_rng};
 pub const ENGINE: QuestionEngine = QuestionEngine {
     families: &templates::FAMILIES,
     generate: generate_for_video,
+    per_video: SamplerConfig {
+        fact_per_video: 1,
+        dynamics_per_video: 2,
+    },
 };
 
 /// Reads the video's `outputs.json` and generates its questions.

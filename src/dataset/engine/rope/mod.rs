@@ -49,7 +49,7 @@ use indexmap::IndexMap;
 pub use error::RopeEngineError;
 pub use scene::{EngineObject, RopeScene};
 
-use super::{EngineError, QuestionEngine};
+use super::{EngineError, QuestionEngine, SamplerConfig};
 use crate::dataset::rope::RopeAnnotation;
 use crate::dataset::{PerVideoQuestions, QuestionRecord, VideoFolder, VideoId};
 use crate::util::{derive_seed, seeded_rng};
@@ -58,6 +58,10 @@ use crate::util::{derive_seed, seeded_rng};
 pub const ENGINE: QuestionEngine = QuestionEngine {
     families: &templates::FAMILIES,
     generate: generate_for_video,
+    per_video: SamplerConfig {
+        fact_per_video: 2,
+        dynamics_per_video: 2,
+    },
 };
 
 /// Reads the video's `outputs.json` and generates its questions.

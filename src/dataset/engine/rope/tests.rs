@@ -1256,7 +1256,7 @@ fn sampler_splits_engine_output_by_video_with_valid_records() {
         let splits = crate::dataset::engine::sample_and_split(
             Scenario::Rope,
             &per_video,
-            &crate::dataset::engine::SamplerConfig::default(),
+            &SamplerConfig::default(),
             42,
         );
         let videos = |split: Split| -> BTreeSet<u32> {
