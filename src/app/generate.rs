@@ -14,6 +14,7 @@ use super::error::{AppError, Classify as _, user_error};
 use super::progress::Progress;
 use super::questions::questions;
 use super::settings::{FramesSelection, GenerateSettings, QuestionsSettings};
+use crate::dataset::Scenario;
 use crate::perception::frames::ffmpeg_available;
 use crate::scenarios;
 use crate::synth::appearance::Appearance;
@@ -108,6 +109,18 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
             )));
         }
     } else {
+        // A data root `generate` did not make (a release download, the demo) is never written
+        // into: its question files would be replaced by the generated ones.
+        if let Some(existing) = Scenario::ALL
+            .iter()
+            .map(|s| s.folder_name())
+            .find(|folder| settings.out.join(folder).exists())
+        {
+            return Err(user_error(format!(
+                "`{}` already holds `{existing}/`, which `generate` did not write; generate into an empty folder or one `generate` made",
+                settings.out.display()
+            )));
+        }
         let text = serde_json::to_vec_pretty(&json!({"settings": identity, "complete": false}))
             .internal()?;
         write_atomic(&manifest_path, &text).user()?;

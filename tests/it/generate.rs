@@ -217,9 +217,14 @@ fn bad_generate_requests_fail_with_one_line() {
     let out = tempfile::tempdir().unwrap();
     let target = out.path().join("data");
     let target = target.to_str().unwrap();
-    let cases: [(&str, Vec<&str>, i32); 6] = [
+    let cases: [(&str, Vec<&str>, i32); 7] = [
         ("no_videos", vec!["--videos", "0"], 1),
         ("no_scenario", vec!["--videos", "1"], 1),
+        (
+            "into_a_data_root_it_did_not_make",
+            vec!["--videos", "1", "--scenario", "fluid", "--frames", "none"],
+            1,
+        ),
         (
             "scenario_without_generator",
             vec!["--videos", "1", "--scenario", "cloth"],
@@ -243,6 +248,11 @@ fn bad_generate_requests_fail_with_one_line() {
     ];
     let mut transcript = String::new();
     for (name, args, code) in cases {
+        // A release data root (a rope video folder, no generate manifest) for the one case.
+        let _ = fs_err::remove_dir_all(out.path().join("data"));
+        if name == "into_a_data_root_it_did_not_make" {
+            fs_err::create_dir_all(out.path().join("data/pulley_group/0")).unwrap();
+        }
         let mut command = Command::new(env!("CARGO_BIN_EXE_contphy-eval"));
         command
             .arg("generate")
