@@ -117,7 +117,11 @@ impl Collider {
         // The distance to the centre line changes no faster than the particle moves: a move
         // shorter than its start's clearance cannot touch (most particle–collider pairs).
         let travel = norm(predicted[0] - from[0], predicted[1] - from[1]);
-        if !self.near(from, radius + travel) || self.distance(from) - travel >= reach {
+        if !self.near(from, radius + travel) {
+            return false;
+        }
+        let start = self.outward(from);
+        if start.1 - travel >= reach {
             return false;
         }
         let at = |t: f64| {
@@ -126,7 +130,8 @@ impl Collider {
                 from[1] + t * (predicted[1] - from[1]),
             ]
         };
-        let touch = if self.distance(from) < reach {
+        let inside = start.1 < reach;
+        let touch = if inside {
             // Already inside (resting particles jitter into the contact distance, and an earlier
             // correction can push one there): push out from where it starts.
             0.0
@@ -160,7 +165,8 @@ impl Collider {
             outside
         };
         let contact = at(touch);
-        let (centre, _, normal) = self.outward(contact);
+        // A start already inside keeps its own closest point (computed once).
+        let (centre, _, normal) = if inside { start } else { self.outward(contact) };
         let surface = [centre[0] + normal[0] * reach, centre[1] + normal[1] * reach];
         let rest = [predicted[0] - contact[0], predicted[1] - contact[1]];
         let normal_part = rest[0] * normal[0] + rest[1] * normal[1];

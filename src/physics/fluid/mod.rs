@@ -628,6 +628,9 @@ fn spiky_gradient_peak(radius: f64) -> f64 {
 /// kernel radius `radius`, `r` the distance to `second`).
 fn spiky_gradient(first: [f64; 2], second: [f64; 2], radius: f64) -> [f64; 2] {
     let offset = [first[0] - second[0], first[1] - second[1]];
+    if offset[0] * offset[0] + offset[1] * offset[1] >= radius * radius {
+        return [0.0, 0.0];
+    }
     let distance = norm(offset[0], offset[1]);
     if distance >= radius || distance <= 1e-12 {
         return [0.0, 0.0];
