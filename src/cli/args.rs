@@ -42,7 +42,8 @@ pub enum Command {
     Exec(ExecArgs),
     /// Print the exact prompt a question (or one of its options) sends to the model.
     Render(RenderArgs),
-    /// Generate questions from rope annotations (the public engine, re-implemented).
+    /// Generate questions from video annotations (rope: the public engine re-implemented;
+    /// fluid: the paper's templates).
     Questions(QuestionsArgs),
     /// Generate synthetic videos in the release format (annotations, 4-D data, frames), then
     /// their questions.
@@ -387,8 +388,8 @@ pub struct QuestionsArgs {
     /// Data root holding `<scenario folder>/<video_id>/`.
     #[arg(long, value_name = "DIR")]
     data: PathBuf,
-    /// Where to write `pulley_group/<video_id>.json` and `pulley_group_{train,val,test}.json`
-    /// (default: the data root).
+    /// Where to write `<scenario folder>/<video_id>.json` and
+    /// `<scenario folder>_{train,val,test}.json` (default: the data root).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Seed of the question engine and sampler.
@@ -405,7 +406,7 @@ pub struct QuestionsArgs {
 /// `generate` arguments.
 #[derive(Debug, Args)]
 pub struct GenerateArgs {
-    /// The scenario to generate (default: the one scenario with a generator).
+    /// The scenario to generate: rope or fluid.
     #[arg(long, value_name = "SCENARIO")]
     scenario: Option<Scenario>,
     /// Number of videos (folders 0 … N−1).
@@ -414,8 +415,9 @@ pub struct GenerateArgs {
     /// Base seed: video i depends only on (seed, i); also seeds the question engine.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Data root to write (`OUT/pulley_group/<i>/`, questions beside it). Existing video
-    /// folders are kept, so an interrupted generation resumes.
+    /// Data root to write (`OUT/<scenario folder>/<i>/`, questions beside it). Existing video
+    /// folders are kept, so an interrupted generation resumes; a data root `generate` did not
+    /// make is refused.
     #[arg(long, value_name = "DIR")]
     out: PathBuf,
     /// Videos generated at once (default: the number of cores).
