@@ -107,7 +107,7 @@ static TABLE: [ScenarioParts; 4] = [
         engine: Some(&engine::fluid::ENGINE),
         synth: Some(&synth::fluid::FLUID_SYNTH),
         writer: None,
-        scene: None,
+        scene: Some(scene_api::fluid::load),
         perception: None,
         reading_check: None,
         inference_bench: None,
