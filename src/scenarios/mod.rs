@@ -106,7 +106,7 @@ static TABLE: [ScenarioParts; 4] = [
         vocabulary: &dataset::fluid::VOCABULARY,
         engine: Some(&engine::fluid::ENGINE),
         synth: Some(&synth::fluid::FLUID_SYNTH),
-        writer: None,
+        writer: Some(&builtin::fluid::WRITER),
         scene: Some(scene_api::fluid::load),
         perception: None,
         reading_check: None,
