@@ -22,7 +22,7 @@
 //!   (`perEmitterStickStat`), enters a container when the container lists the fluid
 //!   (`perReceptorFluidStat`), and enters it "most" when the container holds strictly more of
 //!   it than every other container.
-//! * events ([`events`]): `simulate` is the factual run; `emit` with an emitter is the factual
+//! * events (`events.rs`): `simulate` is the factual run; `emit` with an emitter is the factual
 //!   run too, in which the emitter's fluid is the fluid of its colour (the later emitter's
 //!   fluid `Later Emitted <C> Fluid`); `remove` with a stick is the counterfactual run whose
 //!   `removedStickName` is that stick.
