@@ -8,11 +8,11 @@ network, `eval`/`exec`/`open`/`getattr`/`dir` and names starting with `_` are un
 Scenarios and their objects (the words `SoftScene.find` understands):
 
 - rope:  cube, sphere, pulley (solid or hollow, static or dynamic), rope, fixed point
-- fluid: fluid, container, stick, emitter
+- fluid: fluid, container, stick, emitter (a first or a later emitter)
 - cloth: cloth, pillar, plate
 - ball:  ball, stick, pit, floating wall
 
-Only rope videos can be answered by this version: on a fluid, cloth or ball video every query
+Rope and fluid videos can be answered by this version: on a cloth or ball video every query
 raises `SceneUnavailableError`. The signatures below are the paper's for all four scenarios.
 
 Errors: a wrong call (unknown word, unknown property or action, an empty list where one object
@@ -53,26 +53,35 @@ class SceneObject:
     """
 
     name: str
-    """The short name used in questions, e.g. 'purple cube', 'blue solid pulley', 'green rope'."""
+    """The short name used in questions, e.g. 'purple cube', 'blue solid pulley', 'green rope',
+    'pink fluid', 'yellow later emitter'."""
 
     full_name: str
-    """The annotation name, e.g. 'Blue Solid Static Pulley (0 1)'."""
+    """The annotation name, e.g. 'Blue Solid Static Pulley (0 1)', 'Later Emitted Yellow Fluid
+    Emitter'."""
 
     color: str
     """Colour words, e.g. 'blue', 'light blue'."""
 
     kind: str
-    """The object class: rope scenes have 'cube', 'sphere', 'pulley', 'rope', 'fixed point'."""
+    """The object class: rope scenes have 'cube', 'sphere', 'pulley', 'rope', 'fixed point';
+    fluid scenes 'fluid', 'container', 'stick', 'emitter'."""
 
     type: str
     """The same as `kind` (the paper's name for it)."""
 
     shape: str | None
-    """Pulleys: 'solid' (the small ones) or 'hollow' (the big ones); None for other objects."""
+    """Rope scenes. Pulleys: 'solid' (the small ones) or 'hollow' (the big ones); None for other
+    objects."""
 
     dynamic: str
-    """'dynamic' for loads (cubes, spheres), ropes and movable pulleys; 'static' for static
-    pulleys and fixed points."""
+    """Rope scenes. 'dynamic' for loads (cubes, spheres), ropes and movable pulleys; 'static' for
+    static pulleys and fixed points."""
+
+    emission: str | None
+    """Fluid scenes. Emitters: 'first' for the emitter that pours its fluid from the start of
+    the video, 'later' for a fluid's second emitter, which opens near the end of the video (the
+    questions' "the other yellow emitter"); None for other objects."""
 
 class SceneEvent:
     """An event registered with `SoftScene.register_event`; pass it to
@@ -143,13 +152,16 @@ class SoftScene:
         - colours: red, orange, yellow, green, cyan, blue, purple, pink, brown, gray (or grey),
           black, white, light blue, light green, light yellow, light coral, light purple.
           Colours match exactly: 'blue' does not find a 'light blue' object.
-        - kinds: the scenario's objects (rope: cube, sphere, pulley, rope, fixed point; 'load'
-          means a cube or a sphere). A kind of another scenario ('container' in a rope scene)
-          finds nothing.
-        - pulley shapes: solid (also small, little), hollow (also big, large); a shape alone
-          means a pulley.
-        - dynamics: static, dynamic (also movable).
-        - a grid id `(layer column)` at the end, as in full names: 'blue pulley (0 1)'.
+        - kinds: the scenario's objects (rope: cube, sphere, pulley, rope, fixed point, and
+          'load' means a cube or a sphere; fluid: fluid, container, stick, emitter). A kind of
+          another scenario ('container' in a rope scene) finds nothing.
+        - rope pulley shapes: solid (also small, little), hollow (also big, large); a shape
+          alone means a pulley.
+        - rope dynamics: static, dynamic (also movable).
+        - a rope grid id `(layer column)` at the end, as in full names: 'blue pulley (0 1)'.
+        - fluid emitter emissions: first (also original), later (also other, second,
+          predictive); an emission alone means an emitter. 'the other yellow emitter' is the
+          yellow fluid's later emitter; 'yellow emitter' finds both of its emitters.
         Any other word raises `SceneApiError` listing the vocabulary; so does naming two
         different colours or kinds in one call (find one description at a time).
 
@@ -172,6 +184,9 @@ class SoftScene:
 
         >>> # Is there any gray hollow pulley in the video?
         >>> return bool_to_yesno(len(rope_scene.find("gray hollow pulley")) > 0)
+
+        >>> # How many sticks are there in the video?
+        >>> return len(fluid_scene.find("stick"))
         """
 
     def query_single(self, property: str, object: SceneObject | list[SceneObject]) -> float | None:
@@ -189,8 +204,9 @@ class SoftScene:
               0.25; a load hanging under a movable pulley reads about double, e.g. 0.4);
             - 'tension' of a rope, in N: the weight (m * 9.81) of the load the rope carries;
               None when the rope carries loads of different masses or none.
-            Other properties, or mass of a pulley or rope, tension of a non-rope, raise
-            `SceneApiError`.
+            Fluid scenes have 'density' of a fluid, in kg/m³ (e.g. 1600, 3000, 4400).
+            Other properties, or mass of a pulley or rope, tension of a non-rope, density of a
+            non-fluid, raise `SceneApiError`.
         object : SceneObject | list[SceneObject]
             One object, or the list `find` returned holding exactly one object (an empty list
             or a list of two raises `SceneApiError`).
@@ -211,8 +227,10 @@ class SoftScene:
 
         Rope scenes: two loads (or two ropes) can be compared only when they hang in the same
         mechanically coupled rope-pulley group; across groups the result is (None, None) and
-        the question's answer is "can not answer". Same properties, units and object rules as
-        `query_single`.
+        the question's answer is "can not answer". Fluid scenes: two fluids' densities can be
+        compared only when the video shows how they layer (they settle in one container, or
+        are linked through a chain of such pairs); otherwise (None, None), "can not answer".
+        Same properties, units and object rules as `query_single`.
 
         Parameters
         ----------
@@ -233,6 +251,12 @@ class SoftScene:
         >>> if green_mass is None or purple_mass is None:
         >>>     return "can not answer"
         >>> return bool_to_yesno(green_mass > 0.5 * purple_mass)
+
+        >>> # Is the fluid density of the pink fluid greater than that of the yellow fluid?
+        >>> pink_density, yellow_density = fluid_scene.query_pair('density', fluid_scene.find("pink fluid"), fluid_scene.find("yellow fluid"))
+        >>> if pink_density is None or yellow_density is None:
+        >>>     return "can not answer"
+        >>> return bool_to_yesno(pink_density > yellow_density)
         """
 
     def register_event(
@@ -256,9 +280,19 @@ class SoftScene:
             - 'simulate' with [] and attribute '': the factual future of the video.
             'emit' (fluid) and 'remove' (fluid sticks, ball floating walls) raise
             `SceneApiError` in rope scenes.
+            Fluid scenes support:
+            - 'remove' with [] and a stick's description ('green stick'), or with the stick as
+              the object and attribute 'stick': the counterfactual "if the green stick were
+              removed";
+            - 'emit' with an emitter and attribute 'fluid': the future in which that emitter
+              pours its fluid ("the fluid from the other yellow emitter": the emitter
+              `find("other yellow emitter")`); in that dynamic scene the fluid of the
+              emitter's colour is the fluid it emits;
+            - 'simulate' with [] and attribute '': the factual future of the video.
+            A removal the video has no record of raises `SceneUnavailableError`.
         attribute : str | SceneObject | list[SceneObject]
-            What changes: 'mass' for increase/decrease, '' for simulate; for 'remove' a
-            description such as 'green stick' (or the objects).
+            What changes: 'mass' for increase/decrease, '' for simulate, 'fluid' for emit; for
+            'remove' a description such as 'green stick' (or the objects).
 
         Returns
         -------
@@ -273,6 +307,12 @@ class SoftScene:
         >>> # If we want the green cube to move down, what can we do? | Increase the mass of the pink sphere
         >>> gd_init_event = rope_scene.register_event(rope_scene.find("pink sphere"), "increase", "mass")
         >>> rope_gd_scene = rope_scene.init_dyn_simulation(gd_init_event)
+
+        >>> # If the brown stick were removed, ...
+        >>> cf_init_event = fluid_scene.register_event([], "remove", "brown stick")
+
+        >>> # Which stick will the fluid from the other yellow emitter pass?
+        >>> pred_init_event = fluid_scene.register_event(fluid_scene.find("other yellow emitter"), "emit", "fluid")
         """
 
     def event(
@@ -329,9 +369,17 @@ class SoftDynamicScene:
             Ropes have no motion result; only pulleys rotate. 'entering', 'passing',
             'collision', 'falling', 'touching', 'droping' belong to the other scenarios and
             raise `SceneApiError` in rope scenes.
+            Fluid scenes answer, for a fluid (or an emitter, standing for the fluid it pours):
+            - 'passing' a stick: the fluid flows over the stick;
+            - 'entering' a container: some of the fluid ends in it;
+            - 'entering most' a container: more of the fluid ends in it than in any other
+              container ("let most of the pink fluid enter the gray container").
+            The fluid of a later emitter does not flow in 'remove' scenes (the video's
+            counterfactual runs pour the first emitters only).
         target : str | SceneObject | list[SceneObject]
             A direction word (rope), a description ('red container') or objects (fluid, ball
-            and cloth targets such as `[black_container]`); may be ''.
+            and cloth targets such as `[black_container]`: one stick or container in fluid
+            scenes); may be ''.
 
         Returns
         -------
@@ -344,6 +392,11 @@ class SoftDynamicScene:
         >>> cf_init_event = rope_scene.register_event(rope_scene.find("purple cube"), "increase", "mass")
         >>> rope_cf_scene = rope_scene.init_dyn_simulation(cf_init_event)
         >>> return bool_to_yesno(rope_cf_scene.happen(rope_scene.find("blue pulley"), "rotation", "clockwise"))
+
+        >>> # If the brown stick were removed, which container would pink fluid flow into? | Green container
+        >>> cf_init_event = fluid_scene.register_event([], "remove", "brown stick")
+        >>> fluid_cf_scene = fluid_scene.init_dyn_simulation(cf_init_event)
+        >>> return bool_to_yesno(fluid_cf_scene.happen(fluid_scene.find("pink fluid"), "entering", fluid_scene.find("green container")))
         """
 
 def bool_to_yesno(bool_answer: object, /) -> str:

@@ -7,6 +7,7 @@
 //! never asks about, are understood and find nothing.
 
 use super::error::{ApiError, misuse};
+use super::object::SceneObjectInfo;
 use crate::dataset::Vocabulary;
 use crate::perception::palette::color_words;
 
@@ -25,6 +26,32 @@ pub struct NameQuery {
     /// The name asks for objects `find` never returns here (a kind of another scenario, or an
     /// object the scenario shows but does not ask about): it matches nothing.
     pub foreign_kind: bool,
+}
+
+impl NameQuery {
+    /// Whether `object` (of a scene with `vocabulary`) has every feature of the query: its
+    /// colour, its kind (or one of the kinds of a group word) and its attribute values. Objects
+    /// perception did not find, and every object for a query of foreign kinds, never match.
+    pub fn matches(&self, object: &SceneObjectInfo, vocabulary: &Vocabulary) -> bool {
+        if self.foreign_kind || !object.visible {
+            return false;
+        }
+        let group = self.kind.as_deref().and_then(|kind| vocabulary.group(kind));
+        let kind_matches = match (group, self.kind.as_deref()) {
+            (Some(kinds), _) => kinds.contains(&object.kind),
+            (None, Some(kind)) => object.kind == kind,
+            (None, None) => true,
+        };
+        kind_matches
+            && self
+                .color
+                .as_ref()
+                .is_none_or(|color| *color == object.color)
+            && self
+                .attributes
+                .iter()
+                .all(|(attribute, value)| object.attribute(attribute) == Some(value.as_str()))
+    }
 }
 
 /// The vocabularies a name is parsed with: the scene's, and every scenario's (for words that

@@ -15,6 +15,7 @@
 
 mod error;
 mod find;
+pub mod fluid;
 mod object;
 pub mod perceiver;
 pub mod rope;

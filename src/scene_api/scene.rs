@@ -384,27 +384,12 @@ impl Scene {
         if query.foreign_kind {
             return Ok(Vec::new());
         }
-        let group = query
-            .kind
-            .as_deref()
-            .and_then(|kind| self.parts.vocabulary.group(kind));
-        let objects = self.objects()?;
-        Ok(objects
+        let vocabulary = self.parts.vocabulary;
+        Ok(self
+            .objects()?
             .iter()
-            .filter(|o| o.visible)
-            .filter(|o| query.color.as_ref().is_none_or(|c| *c == o.color))
-            .filter(|o| match (group, query.kind.as_deref()) {
-                (Some(kinds), _) => kinds.contains(&o.kind),
-                (None, Some(kind)) => o.kind == kind,
-                (None, None) => true,
-            })
-            .filter(|o| {
-                query
-                    .attributes
-                    .iter()
-                    .all(|(attribute, value)| o.attribute(attribute) == Some(value.as_str()))
-            })
-            .map(|o| o.id)
+            .filter(|object| query.matches(object, vocabulary))
+            .map(|object| object.id)
             .collect())
     }
 

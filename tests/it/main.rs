@@ -12,6 +12,7 @@ mod api_spec;
 mod architecture;
 mod cli;
 mod exec;
+mod fluid;
 mod frames;
 mod generate;
 mod llm;

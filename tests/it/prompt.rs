@@ -160,6 +160,82 @@ fn every_demo_unit_renders_in_both_modes_with_its_family_examples() {
 }
 
 #[test]
+fn every_fluid_family_renders_with_its_own_example_first_and_its_hints() {
+    let set = PromptSet::embedded(scenarios::scene_words()).unwrap();
+    // (family, a question of it, the example shown first per option, per question)
+    let cases = [
+        (
+            "density",
+            "Is the fluid density of the pink fluid greater than that of the yellow fluid?",
+            "fluid/density",
+            "fluid/density",
+        ),
+        (
+            "stick_number",
+            "How many sticks are there in the video?",
+            "fluid/stick_number",
+            "fluid/stick_number",
+        ),
+        (
+            "fluid_predictive_pass",
+            "Which stick will the fluid from the other blue emitter pass?\nA. Pink stick\nB. Red stick",
+            "fluid/fluid_predictive_pass",
+            "fluid/fluid_predictive_pass.per_question",
+        ),
+        (
+            "fluid_predictive_container",
+            "Which container will fluid from the other blue emitter flow into?\nA. Pink container\nB. Red container",
+            "fluid/fluid_predictive_container",
+            "fluid/fluid_predictive_container",
+        ),
+        (
+            "fluid_counterfactual_pass",
+            "If the gray stick were removed, which stick would pink fluid pass?\nA. Red stick\nB. Cyan stick",
+            "fluid/fluid_counterfactual_pass",
+            "fluid/fluid_counterfactual_pass.per_question",
+        ),
+        (
+            "fluid_counterfactual_container",
+            "If the gray stick were removed, which container would pink fluid flow into?\nA. Red container\nB. Cyan container",
+            "fluid/fluid_counterfactual_container",
+            "fluid/fluid_counterfactual_container",
+        ),
+        (
+            "fluid_goaldriven_container",
+            "What can we do to let most of the pink fluid enter the red container?\nA. Remove the gray stick\nB. Remove the cyan stick",
+            "fluid/fluid_goaldriven_container",
+            "fluid/fluid_goaldriven_container.per_question",
+        ),
+    ];
+    for (family, text, per_option, per_question) in cases {
+        let choice = text.contains('\n');
+        let question = if choice {
+            make_question(Scenario::Fluid, text, "A", family, "multiple_choice")
+        } else {
+            make_question(Scenario::Fluid, text, "yes", family, "open_ended")
+        };
+        for (mode, own) in [
+            (PromptMode::PerOption, per_option),
+            (PromptMode::PerQuestion, per_question),
+        ] {
+            let option = (choice && mode == PromptMode::PerOption).then(|| &question.options[0]);
+            let prompt = set.render(&question, option, mode).unwrap();
+            let example = set.examples().find(|e| e.name == own).unwrap();
+            let first_example = prompt.user.split("```python\n").nth(2).unwrap();
+            assert!(
+                first_example.starts_with(&example.prompt_text),
+                "{family} ({mode}): the first example is not `{own}`"
+            );
+            assert!(prompt.user.contains("use `SoftScene(video, 'fluid')`"));
+            assert!(prompt.user.contains("find(\"other yellow emitter\")"));
+            assert!(!prompt.user.contains("# expected:"));
+            let after_api = prompt.user.split_once("Write a function").unwrap().1;
+            assert!(!after_api.contains("rope_scene"), "{family}: rope examples");
+        }
+    }
+}
+
+#[test]
 fn template_hash_covers_the_files_used_and_is_stable() {
     let question = demo_question("0/mass/1");
     let other_family = demo_question("0/shape/0");
@@ -188,9 +264,11 @@ fn template_hash_covers_the_files_used_and_is_stable() {
     let dir = tempfile::tempdir().unwrap();
     let examples = dir.path().join("api_spec/examples/fluid");
     fs_err::create_dir_all(&examples).unwrap();
-    let path = examples.join("fluid_goaldriven.py");
-    let original =
-        fs_err::read_to_string(root().join("api_spec/examples/fluid/fluid_goaldriven.py")).unwrap();
+    let path = examples.join("fluid_goaldriven_container.py");
+    let original = fs_err::read_to_string(
+        root().join("api_spec/examples/fluid/fluid_goaldriven_container.py"),
+    )
+    .unwrap();
     fs_err::write(
         &path,
         original
@@ -225,7 +303,7 @@ fn other_scenarios_render_with_their_own_examples() {
     let cases = [
         (
             Scenario::Fluid,
-            "fluid/fluid_goaldriven",
+            "fluid/fluid_goaldriven_container",
             "use `SoftScene(video, 'fluid')`",
         ),
         (

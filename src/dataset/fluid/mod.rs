@@ -2,8 +2,9 @@
 //! of object names ([`parse_fluid_object_name`]), the release's fluid world ([`world`]), its
 //! labelling of a run ([`outcome`]) and the words of fluid scenes ([`VOCABULARY`]).
 //!
-//! The format is described in `docs/data/fluid.md`. The scene backend and the generator are not
-//! implemented yet.
+//! The format is described in `docs/data/fluid.md`. The question engine
+//! (`dataset::engine::fluid`), the generator (`synth::fluid`) and the scene backend
+//! (`scene_api::fluid`) read these types.
 
 mod annotation;
 mod names;

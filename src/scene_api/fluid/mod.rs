@@ -1,0 +1,364 @@
+//! The fluid scene (`fluid_slides`): objects from the annotation's layout and, with `--dynamics
+//! annotation` (the paper's offline mode), densities and flow outcomes from its tracking data.
+//!
+//! Input: a video's `outputs.json` ([`FluidAnnotation`]). Output: the scene's objects and the
+//! answers of `query`, `register_event` and `happen` (`docs/data/fluid.md`). It reads no frames
+//! and runs no simulator: `--dynamics simulate` and `--perception maskrcnn` are not implemented
+//! for fluid yet, and every call that would need them says so (`ApiError::Unavailable`).
+//!
+//! Objects, in this order: the fluids (`Pink Fluid`; a fluid's later emitter is not a fluid of
+//! its own), the containers, the regular sticks (a container's guided sticks are part of it),
+//! then the emitters: each fluid's first emitter (`emission` `first`) and each later emitter
+//! (`Later Emitted Yellow Fluid Emitter`, `emission` `later`), which the paper calls "the other
+//! yellow emitter" and `find("other yellow emitter")` finds.
+//!
+//! Answers agree with the question engine (`dataset::engine::fluid`) by construction, reading
+//! the same keys with the same rules:
+//!
+//! * density: two fluids compare when the recorded relations (`allDensityRelations`, between
+//!   base fluids, closed transitively) relate them; otherwise `query_pair` gives `(None, None)`,
+//!   "can not answer". Values are the layout's densities, kg/m³.
+//! * a fluid passes a stick when its run lists the stick among the fluid's contacts
+//!   (`perEmitterStickStat`), enters a container when the container lists the fluid
+//!   (`perReceptorFluidStat`), and enters it "most" when the container holds strictly more of
+//!   it than every other container.
+//! * events (`events.rs`): `simulate` is the factual run; `emit` with an emitter is the factual
+//!   run too, in which the emitter's fluid is the fluid of its colour (the later emitter's
+//!   fluid `Later Emitted <C> Fluid`); `remove` with a stick is the counterfactual run whose
+//!   `removedStickName` is that stick.
+
+mod events;
+
+#[cfg(test)]
+mod tests;
+
+use std::collections::BTreeSet;
+
+use crate::dataset::Scenario;
+use crate::dataset::fluid::outcome::transitive_closure;
+use crate::dataset::fluid::{
+    FluidAnnotation, FluidLayout, VOCABULARY, emitter_name, later_fluid_name,
+    parse_fluid_object_name,
+};
+use crate::dataset::vocabulary::Vocabulary;
+use crate::scene_api::{
+    ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
+    SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
+};
+
+/// The vocabulary attribute that tells a fluid's emitters apart.
+const EMISSION: &str = "emission";
+/// Its value for the emitter that opens at the start of the video.
+const FIRST_EMISSION: &str = "first";
+/// Its value for a fluid's later (predictive) emitter.
+const LATER_EMISSION: &str = "later";
+
+/// Loads the backend of a fluid video (the scenario table's scene backend for fluid).
+pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
+    Ok(Box::new(FluidBackend::load(spec)?))
+}
+
+/// The message of every call that needs `--dynamics simulate` on a fluid video.
+fn simulate_not_implemented() -> ApiError {
+    ApiError::Unavailable(
+        "fluid scenes cannot be simulated yet: `--dynamics simulate` is not implemented for fluid; run with `--dynamics annotation`"
+            .to_string(),
+    )
+}
+
+/// What an object of the scene stands for.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Role {
+    /// A fluid; its tracking key is its name (`Pink Fluid`).
+    Fluid,
+    /// An emitter, with the tracking key of the fluid it emits (`Later Emitted Yellow Fluid`).
+    Emitter {
+        /// The key of its fluid in `trackingData`.
+        fluid: String,
+        /// Whether it is a later (predictive) emitter, absent from counterfactual runs.
+        later: bool,
+    },
+    /// A regular stick.
+    Stick,
+    /// A container (its cup and funnel).
+    Container,
+}
+
+impl Role {
+    /// The kind word of objects of this role.
+    fn kind(&self) -> &'static str {
+        match self {
+            Role::Fluid => "fluid",
+            Role::Emitter { .. } => "emitter",
+            Role::Stick => "stick",
+            Role::Container => "container",
+        }
+    }
+}
+
+/// One fluid video's answers, from its annotations.
+pub(crate) struct FluidBackend {
+    annotation: FluidAnnotation,
+    objects: Vec<SceneObjectInfo>,
+    /// What each object stands for, by object index.
+    roles: Vec<Role>,
+    /// `(heavier, lighter)` base-fluid pairs of `allDensityRelations` after transitive closure.
+    heavier_than: BTreeSet<(String, String)>,
+    /// Where dynamics and properties come from.
+    dynamics: DynamicsBackend,
+}
+
+impl FluidBackend {
+    /// The backend of one fluid video, as the scenario table's [`load`] builds it.
+    pub(crate) fn load(spec: &VideoSpec) -> Result<FluidBackend, ApiError> {
+        if spec.perception == PerceptionBackend::MaskRcnn {
+            return Err(ApiError::Unavailable(
+                "fluid scenes have no detector yet: `--perception maskrcnn` is not implemented for fluid; run with `--perception annotation`"
+                    .to_string(),
+            ));
+        }
+        let annotation = FluidAnnotation::load(&spec.video_dir.join("outputs.json"))?;
+        Ok(FluidBackend::new(annotation, spec.dynamics))
+    }
+
+    /// The backend of `annotation` under `dynamics`.
+    pub(crate) fn new(annotation: FluidAnnotation, dynamics: DynamicsBackend) -> FluidBackend {
+        let (objects, roles) = scene_objects(&annotation.layout);
+        let relations: Vec<(String, String)> = annotation
+            .tracking
+            .density_relations
+            .iter()
+            .map(|relation| (relation.heavier.clone(), relation.lighter.clone()))
+            .collect();
+        FluidBackend {
+            heavier_than: transitive_closure(&relations).into_iter().collect(),
+            annotation,
+            objects,
+            roles,
+            dynamics,
+        }
+    }
+
+    fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
+        self.objects.get(id.0 as usize).ok_or_else(|| {
+            misuse(format!(
+                "{function}: object #{} does not belong to this scene",
+                id.0
+            ))
+        })
+    }
+
+    /// What `object` stands for (objects and roles are built together, one role each).
+    fn role(&self, object: &SceneObjectInfo) -> Option<&Role> {
+        self.roles.get(object.id.0 as usize)
+    }
+
+    /// The objects a description names (`find`'s words, in this scene's vocabulary).
+    fn resolve(&self, description: &str, function: &str) -> Result<Vec<ObjectId>, ApiError> {
+        const OWN: [&Vocabulary; 1] = [&VOCABULARY];
+        let words = Words {
+            scenario: Scenario::Fluid.name(),
+            own: &VOCABULARY,
+            all: &OWN,
+        };
+        let query = parse_object_query(description, words).map_err(|error| {
+            let reason = error.to_string();
+            misuse(format!(
+                "{function}: cannot read `{description}`: {}",
+                reason.strip_prefix("find: ").unwrap_or(&reason)
+            ))
+        })?;
+        Ok(self
+            .objects
+            .iter()
+            .filter(|object| query.matches(object, &VOCABULARY))
+            .map(|object| object.id)
+            .collect())
+    }
+
+    /// The short names of the scene's objects of `kind`, for messages (`brown stick, cyan
+    /// stick`).
+    fn names_of_kind(&self, kind: &str) -> String {
+        let names: Vec<String> = self
+            .objects
+            .iter()
+            .filter(|object| object.kind == kind)
+            .map(SceneObjectInfo::describe)
+            .collect();
+        if names.is_empty() {
+            format!("this scene has no {kind}")
+        } else {
+            format!("the {kind}s are: {}", names.join(", "))
+        }
+    }
+
+    /// The density of fluid `name` in the layout, kg/m³.
+    fn layout_density(&self, name: &str) -> Option<f64> {
+        self.annotation
+            .layout
+            .fluids
+            .iter()
+            .find(|fluid| fluid.name == name)
+            .map(|fluid| fluid.density)
+    }
+
+    /// `query_pair('density', a, b)`: both densities when the recorded relations order the two
+    /// (or they are one fluid), else `(None, None)`.
+    fn density_pair(
+        &self,
+        first: &SceneObjectInfo,
+        second: &SceneObjectInfo,
+    ) -> Result<Vec<Option<f64>>, ApiError> {
+        let (a, b) = (first.name.as_str(), second.name.as_str());
+        let values = [self.layout_density(a), self.layout_density(b)];
+        let [Some(first_density), Some(second_density)] = values else {
+            return Ok(vec![None, None]);
+        };
+        if a == b {
+            return Ok(vec![Some(first_density), Some(second_density)]);
+        }
+        let pair = |x: &str, y: &str| self.heavier_than.contains(&(x.to_string(), y.to_string()));
+        let heavier = match (pair(a, b), pair(b, a)) {
+            (true, false) => true,
+            (false, true) => false,
+            // Unrelated (or related both ways, which only corrupt data gives): the video cannot
+            // compare them.
+            _ => return Ok(vec![None, None]),
+        };
+        let agrees = if heavier {
+            first_density > second_density
+        } else {
+            first_density < second_density
+        };
+        if !agrees {
+            return Err(ApiError::Data(format!(
+                "the recorded density relations order the {} and the {} against their densities ({first_density} and {second_density} kg/m³)",
+                first.describe(),
+                second.describe()
+            )));
+        }
+        Ok(vec![Some(first_density), Some(second_density)])
+    }
+}
+
+/// The scene's objects and their roles: fluids, containers, sticks, first emitters, later
+/// emitters, each in layout order. Names outside the generator's grammar (the reader refuses
+/// them) are left out.
+fn scene_objects(layout: &FluidLayout) -> (Vec<SceneObjectInfo>, Vec<Role>) {
+    let mut named: Vec<(String, String, Role, Option<&'static str>)> = Vec::new();
+    let color_of = |name: &str| parse_fluid_object_name(name).and_then(|parsed| parsed.color);
+    for fluid in &layout.fluids {
+        if let Some(color) = color_of(&fluid.name) {
+            named.push((fluid.name.clone(), color.to_string(), Role::Fluid, None));
+        }
+    }
+    for container in &layout.reservoirs {
+        if let Some(color) = color_of(&container.name) {
+            named.push((
+                container.name.clone(),
+                color.to_string(),
+                Role::Container,
+                None,
+            ));
+        }
+    }
+    for stick in &layout.sticks {
+        if let Some(color) = color_of(&stick.name) {
+            named.push((stick.name.clone(), color.to_string(), Role::Stick, None));
+        }
+    }
+    for later in [false, true] {
+        for fluid in &layout.fluids {
+            let Some(color) = color_of(&fluid.name) else {
+                continue;
+            };
+            if later && !fluid.has_predictive_emitter {
+                continue;
+            }
+            let (key, emission) = if later {
+                (later_fluid_name(color), LATER_EMISSION)
+            } else {
+                (fluid.name.clone(), FIRST_EMISSION)
+            };
+            named.push((
+                emitter_name(&key),
+                color.to_string(),
+                Role::Emitter { fluid: key, later },
+                Some(emission),
+            ));
+        }
+    }
+    named
+        .into_iter()
+        .enumerate()
+        .map(|(index, (name, color, role, emission))| {
+            let attributes: Vec<(&str, String)> = emission
+                .map(|value| (EMISSION, value.to_string()))
+                .into_iter()
+                .collect();
+            let object = SceneObjectInfo::new(
+                ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+                &name,
+                &color.to_lowercase(),
+                role.kind(),
+                &attributes,
+                &VOCABULARY,
+            );
+            (object, role)
+        })
+        .unzip()
+}
+
+impl ScenarioBackend for FluidBackend {
+    fn objects(&self) -> &[SceneObjectInfo] {
+        &self.objects
+    }
+
+    fn query(
+        &self,
+        property: Property,
+        objects: &[ObjectId],
+        function: &str,
+    ) -> Result<Vec<Option<f64>>, ApiError> {
+        let infos = objects
+            .iter()
+            .map(|id| self.info(*id, function))
+            .collect::<Result<Vec<_>, _>>()?;
+        if property != Property::Density {
+            return Err(misuse(format!(
+                "{function}: property `{}` does not apply to fluid scenes; fluid scenes have density (fluids)",
+                property.name()
+            )));
+        }
+        if let Some(other) = infos.iter().find(|o| self.role(o) != Some(&Role::Fluid)) {
+            return Err(misuse(format!(
+                "{function}: density is a property of fluids, not of the {}",
+                other.describe()
+            )));
+        }
+        if self.dynamics == DynamicsBackend::Simulate {
+            return Err(simulate_not_implemented());
+        }
+        match infos.as_slice() {
+            [first, second] => self.density_pair(first, second),
+            _ => Ok(infos
+                .iter()
+                .map(|fluid| self.layout_density(&fluid.name))
+                .collect()),
+        }
+    }
+
+    fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
+        self.event_run(event, "register_event").map(|_| ())
+    }
+
+    fn happen(
+        &self,
+        event: &SceneEvent,
+        object: ObjectId,
+        action: &str,
+        target: &Target,
+    ) -> Result<bool, ApiError> {
+        self.happens(event, object, action, target)
+    }
+}
