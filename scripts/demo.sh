@@ -2,7 +2,8 @@
 # The README's first command: installs what the demo needs (Debian's ffmpeg, to decode the video,
 # through apt-get when it can; ONNX Runtime into the project, scripts/setup-onnxruntime.sh),
 # builds, and evaluates every question of the embedded real rope video with ContPRO's pipeline
-# (--perception maskrcnn --dynamics simulate). Without a runtime (no pip, not Linux x86_64) it
+# (--perception maskrcnn --dynamics simulate), then every question of the two embedded generated
+# fluid videos with the oracle backends. Without a runtime (no pip, not Linux x86_64) it
 # says so and runs the oracle perception instead. Extra arguments go to contphy-eval.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,9 +40,14 @@ fi
 # A new run directory each time (runs/demo, runs/demo-2, ...): earlier runs are kept.
 out=runs/demo
 n=1
-while [ -e "${out}/manifest.json" ]; do
+while [ -e "${out}/manifest.json" ] || [ -e "${out}-fluid/manifest.json" ]; do
   n=$((n + 1))
   out="runs/demo-${n}"
 done
-exec cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_group/0.json \
+cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_group/0.json \
   --out "${out}" "${perception[@]}" "$@"
+# Fluid: two generated videos (eval/demo/fluid_slides/), every question the engine made for them,
+# with the oracle backends (fluid's simulate backend and perception are the next issue).
+exec cargo run --release --locked -- --data eval/demo --questions eval/demo/fluid_slides/0.json \
+  --questions eval/demo/fluid_slides/1.json --out "${out}-fluid" \
+  --perception annotation --dynamics annotation "$@"

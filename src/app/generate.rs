@@ -92,39 +92,7 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
     if settings.appearance == Appearance::Randomized {
         identity["appearance"] = json!("randomized");
     }
-    let manifest_path = settings.out.join("generate.json");
-    if manifest_path.is_file() {
-        let previous: serde_json::Value =
-            serde_json::from_slice(&fs_err::read(&manifest_path).user()?).map_err(|error| {
-                user_error(format!(
-                    "`{}` is not a generate manifest ({error}); remove it or choose another --out",
-                    manifest_path.display()
-                ))
-            })?;
-        if previous.get("settings") != Some(&identity) {
-            return Err(user_error(format!(
-                "`{}` holds videos generated with {}; generate there with the same --scenario, --seed, --frames and --resolution, or choose another --out",
-                settings.out.display(),
-                previous.get("settings").unwrap_or(&serde_json::Value::Null)
-            )));
-        }
-    } else {
-        // A data root `generate` did not make (a release download, the demo) is never written
-        // into: its question files would be replaced by the generated ones.
-        if let Some(existing) = Scenario::ALL
-            .iter()
-            .map(|s| s.folder_name())
-            .find(|folder| settings.out.join(folder).exists())
-        {
-            return Err(user_error(format!(
-                "`{}` already holds `{existing}/`, which `generate` did not write; generate into an empty folder or one `generate` made",
-                settings.out.display()
-            )));
-        }
-        let text = serde_json::to_vec_pretty(&json!({"settings": identity, "complete": false}))
-            .internal()?;
-        write_atomic(&manifest_path, &text).user()?;
-    }
+    let manifest_path = claim_data_root(settings, &identity)?;
     let progress = Progress::labelled(
         u64::try_from(settings.videos).unwrap_or(u64::MAX),
         "videos",
@@ -172,6 +140,50 @@ pub(crate) fn generate(settings: &GenerateSettings) -> Result<ExitCode, AppError
         fact_per_video: None,
         dynamics_per_video: None,
     })
+}
+
+/// Checks that `settings.out` may take these videos and returns its manifest's path: a data root
+/// `generate` made with the same settings (`identity`) resumes; one made with others, or a data
+/// root `generate` did not make (its question files would be replaced), is refused; a new one
+/// gets a manifest marked incomplete.
+fn claim_data_root(
+    settings: &GenerateSettings,
+    identity: &serde_json::Value,
+) -> Result<std::path::PathBuf, AppError> {
+    let manifest_path = settings.out.join("generate.json");
+    if manifest_path.is_file() {
+        let previous: serde_json::Value =
+            serde_json::from_slice(&fs_err::read(&manifest_path).user()?).map_err(|error| {
+                user_error(format!(
+                    "`{}` is not a generate manifest ({error}); remove it or choose another --out",
+                    manifest_path.display()
+                ))
+            })?;
+        if previous.get("settings") != Some(identity) {
+            return Err(user_error(format!(
+                "`{}` holds videos generated with {}; generate there with the same --scenario, --seed, --frames and --resolution, or choose another --out",
+                settings.out.display(),
+                previous.get("settings").unwrap_or(&serde_json::Value::Null)
+            )));
+        }
+    } else {
+        // A data root `generate` did not make (a release download, the demo) is never written
+        // into: its question files would be replaced by the generated ones.
+        if let Some(existing) = Scenario::ALL
+            .iter()
+            .map(|s| s.folder_name())
+            .find(|folder| settings.out.join(folder).exists())
+        {
+            return Err(user_error(format!(
+                "`{}` already holds `{existing}/`, which `generate` did not write; generate into an empty folder or one `generate` made",
+                settings.out.display()
+            )));
+        }
+        let text = serde_json::to_vec_pretty(&json!({"settings": identity, "complete": false}))
+            .internal()?;
+        write_atomic(&manifest_path, &text).user()?;
+    }
+    Ok(manifest_path)
 }
 
 /// Generation errors are the environment's or the user's (paths, ffmpeg), except a scene that

@@ -520,6 +520,25 @@ fn load_questions(
         };
         let mut paths = Vec::new();
         for scenario in scenarios {
+            // A --scenario the data root has no videos of: say so, not "make its questions".
+            if !root.scenario_dir(scenario).is_dir() {
+                let present = root.scenarios();
+                return Err(user_error(format!(
+                    "data root `{}` has no `{}/` folder (no {} videos; it holds {})",
+                    root.dir().display(),
+                    scenario.folder_name(),
+                    scenario.name(),
+                    if present.is_empty() {
+                        "no scenario folder".to_string()
+                    } else {
+                        present
+                            .iter()
+                            .map(|s| format!("`{}/`", s.folder_name()))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    }
+                )));
+            }
             for split in &splits {
                 let path = sampled_file_path(root, scenario, *split);
                 if !path.is_file() {

@@ -102,7 +102,7 @@ static TABLE: [ScenarioParts; 4] = [
     },
     ScenarioParts {
         scenario: Scenario::Fluid,
-        demo: None,
+        demo: Some("eval/demo/fluid_slides/0"),
         vocabulary: &dataset::fluid::VOCABULARY,
         engine: Some(&engine::fluid::ENGINE),
         synth: Some(&synth::fluid::FLUID_SYNTH),

@@ -31,6 +31,18 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
     )
     .unwrap();
     fs_err::write(path.join("corrupt/pulley_group_test.json"), "[]").unwrap();
+    // A generated fluid video with its `trackingData` cut out.
+    let mut fluid: serde_json::Value = serde_json::from_slice(
+        &fs_err::read(root().join("eval/demo/fluid_slides/0/outputs.json")).unwrap(),
+    )
+    .unwrap();
+    fluid.as_object_mut().unwrap().remove("trackingData");
+    fs_err::create_dir_all(path.join("fluid_no_tracking/fluid_slides/0")).unwrap();
+    fs_err::write(
+        path.join("fluid_no_tracking/fluid_slides/0/outputs.json"),
+        serde_json::to_vec(&fluid).unwrap(),
+    )
+    .unwrap();
     fs_err::write(
         path.join("pulley_group_extra.json"),
         r#"[{"question": "Is there any red cube in the video?", "answer": "no", "question_family": "existence",
@@ -47,8 +59,12 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
     )
     .unwrap();
     fs_err::write(path.join("program.py"), "answer = 1\n").unwrap();
-    let cases: [(&str, Vec<&str>); 10] = [
+    let cases: [(&str, Vec<&str>); 12] = [
         ("wrong_path", vec!["--data", "no/such/dir"]),
+        (
+            "scenario_without_videos_in_the_root",
+            vec!["--data", ".", "--scenario", "fluid"],
+        ),
         ("empty_folder", vec!["--data", "empty"]),
         ("no_sampled_questions", vec!["--data", "."]),
         (
@@ -71,6 +87,10 @@ fn bad_input_gives_exit_1_and_names_the_problem() {
             vec!["--data", ".", "--questions", "questions.json"],
         ),
         ("corrupt_annotation", vec!["questions", "--data", "corrupt"]),
+        (
+            "fluid_video_without_tracking_data",
+            vec!["questions", "--data", "fluid_no_tracking"],
+        ),
         (
             "exec_missing_program",
             vec!["exec", "--video", "pulley_group/0", "--program", "nope.py"],
