@@ -411,4 +411,21 @@ fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks()
         fluids_seen >= 3,
         "the fluids are drawn and labelled: {fluids_seen}"
     );
+    // The same seed gives the same bytes whatever the job count.
+    let again = tempfile::tempdir().unwrap();
+    let options = GenerateOptions {
+        videos: 2,
+        jobs: 2,
+        out: again.path().to_path_buf(),
+        ..options
+    };
+    generate(&SHORT_FLUID, &options, &|_| {}).unwrap();
+    for file in [
+        "outputs.json",
+        "outputs4D.json",
+        "frames/output_Full_ori/frame_00039.png",
+    ] {
+        let read = |root: &Path| fs_err::read(root.join("fluid_slides/0").join(file)).unwrap();
+        assert!(read(out.path()) == read(again.path()), "{file} differs");
+    }
 }
