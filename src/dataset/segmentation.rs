@@ -4,7 +4,8 @@
 //!
 //! Input: an `outputs.json` path. Output: [`SegmentationRecords`], frames keyed 0-based (the
 //! file's keys count from 1), or a [`DatasetError`] naming the file and field. Used as ground
-//! truth for perception.
+//! truth for perception. Also the annotation readers' view of the same key
+//! ([`parse_image_descriptions`]: instance names and the number of annotated frames).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -12,6 +13,7 @@ use std::path::Path;
 use serde_json::Value;
 
 use super::error::DatasetError;
+use super::fields::Node;
 
 /// One instance painted in a segmentation frame.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -169,6 +171,26 @@ impl SegmentationRecords {
         }
         Ok(records)
     }
+}
+
+/// `imgAnnotationDescriptions`: `Id2ObjectNameDict` and the number of annotated frames.
+pub(crate) fn parse_image_descriptions(
+    node: Node<'_>,
+) -> Result<(Vec<(u32, String)>, usize), DatasetError> {
+    let names = node
+        .optional_field("Id2ObjectNameDict", |dict| {
+            dict.entries(|key, name| {
+                let id = key.parse::<u32>().map_err(|_| {
+                    name.error("has a key that is not an instance id (a whole number)")
+                })?;
+                Ok((id, name.string()?))
+            })
+        })?
+        .unwrap_or_default();
+    let frames = node
+        .optional_field("perFrameAnnotations", |f| f.len())?
+        .unwrap_or(0);
+    Ok((names, frames))
 }
 
 #[cfg(test)]

@@ -27,6 +27,25 @@ pub(crate) struct DraftOption {
     pub(crate) correct: bool,
 }
 
+/// Pops a false option with probability |F|/(|F|+|T|), else a true one; `None` when both are
+/// empty.
+pub(crate) fn draw_weighted(
+    true_options: &mut Vec<DraftOption>,
+    false_options: &mut Vec<DraftOption>,
+    rng: &mut impl rand::Rng,
+) -> Option<DraftOption> {
+    let total = true_options.len() + false_options.len();
+    if total == 0 {
+        return None;
+    }
+    let false_probability = false_options.len() as f64 / total as f64;
+    if rng.random::<f64>() < false_probability {
+        false_options.pop()
+    } else {
+        true_options.pop()
+    }
+}
+
 /// An open-ended record: `positive` is `[answer]`, `negative` is empty.
 pub(crate) fn open_ended_record(
     family: &str,

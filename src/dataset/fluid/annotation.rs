@@ -23,10 +23,11 @@ use super::names::{
     ContainerPart, FluidObjectKind, FluidObjectName, base_fluid_name, container_part_name,
     palette_name, parse_fluid_object_name,
 };
-use super::outcome::{Receptor, Rect};
+use super::outcome::{DensityOrdering, Receptor, Rect};
 use crate::dataset::DatasetError;
 use crate::dataset::camera::{Camera, parse_camera};
 use crate::dataset::fields::{Node, read_json};
+use crate::dataset::segmentation::parse_image_descriptions;
 
 /// `mode` of a factual record.
 const FACTUAL_MODE: &str = "FACTUAL_PREDICTIVE";
@@ -92,6 +93,29 @@ impl FluidTracking {
             .and_then(|fluids| fluids.get(fluid))
             .copied()
             .unwrap_or(0)
+    }
+
+    /// Whether `container` holds strictly more of `fluid` than every other container (an
+    /// unlisted count is 0, so a container without the fluid never holds most, and a container
+    /// the run does not list cannot beat one that holds some).
+    pub fn holds_most(&self, container: &str, fluid: &str) -> bool {
+        let count = self.particles_in(container, fluid);
+        count > 0
+            && self
+                .per_receptor_fluid_stat
+                .keys()
+                .filter(|other| *other != container)
+                .all(|other| self.particles_in(other, fluid) < count)
+    }
+
+    /// The run's density relations, closed transitively.
+    pub fn density_ordering(&self) -> DensityOrdering {
+        let relations: Vec<(String, String)> = self
+            .density_relations
+            .iter()
+            .map(|relation| (relation.heavier.clone(), relation.lighter.clone()))
+            .collect();
+        DensityOrdering::new(&relations)
     }
 }
 
@@ -627,24 +651,6 @@ fn parse_counterfactual(key: &str, node: Node<'_>) -> Result<FluidCounterfactual
         removed_stick,
         tracking: node.field("trackingData", parse_tracking)?,
     })
-}
-
-/// `imgAnnotationDescriptions`: `Id2ObjectNameDict` and the number of annotated frames.
-fn parse_image_descriptions(node: Node<'_>) -> Result<(Vec<(u32, String)>, usize), DatasetError> {
-    let names = node
-        .optional_field("Id2ObjectNameDict", |dict| {
-            dict.entries(|key, name| {
-                let id = key.parse::<u32>().map_err(|_| {
-                    name.error("has a key that is not an instance id (a whole number)")
-                })?;
-                Ok((id, name.string()?))
-            })
-        })?
-        .unwrap_or_default();
-    let frames = node
-        .optional_field("perFrameAnnotations", |f| f.len())?
-        .unwrap_or(0);
-    Ok((names, frames))
 }
 
 #[cfg(test)]

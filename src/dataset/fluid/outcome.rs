@@ -237,6 +237,46 @@ pub fn density_relations(
     transitive_closure(&direct)
 }
 
+/// How two fluids' densities compare in a run's recorded relations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DensityOrder {
+    /// The first is denser.
+    Heavier,
+    /// The first is lighter.
+    Lighter,
+    /// No recorded relation (after closure) links them: the video cannot compare them.
+    Unknown,
+    /// Relations in both directions: only corrupt data gives these.
+    Contradictory,
+}
+
+/// The recorded `(heavier, lighter)` relations closed transitively ([`transitive_closure`]), for
+/// comparing fluids: what the question engine asks from and the scene backend answers from.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct DensityOrdering {
+    heavier_than: BTreeSet<(String, String)>,
+}
+
+impl DensityOrdering {
+    /// The closure of `relations`.
+    pub fn new(relations: &[(String, String)]) -> DensityOrdering {
+        DensityOrdering {
+            heavier_than: transitive_closure(relations).into_iter().collect(),
+        }
+    }
+
+    /// How `first`'s density compares with `second`'s (the relations' names).
+    pub fn order(&self, first: &str, second: &str) -> DensityOrder {
+        let pair = |a: &str, b: &str| self.heavier_than.contains(&(a.to_string(), b.to_string()));
+        match (pair(first, second), pair(second, first)) {
+            (true, false) => DensityOrder::Heavier,
+            (false, true) => DensityOrder::Lighter,
+            (false, false) => DensityOrder::Unknown,
+            (true, true) => DensityOrder::Contradictory,
+        }
+    }
+}
+
 /// The relations with duplicates removed (first occurrence kept), then closed transitively as
 /// the release does: repeatedly, for every pair of relations `(a, b)`, `(b, c)` in list order
 /// (the list growing as it goes), add `(a, c)` if absent, until a pass adds nothing.

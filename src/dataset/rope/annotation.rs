@@ -13,6 +13,7 @@ use super::names::parse_rope_object_name;
 use crate::dataset::DatasetError;
 use crate::dataset::camera::{Camera, parse_camera};
 use crate::dataset::fields::{Node, read_json};
+use crate::dataset::segmentation::parse_image_descriptions;
 
 /// What a counterfactual run changed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -212,22 +213,7 @@ impl RopeAnnotation {
             .into_iter()
             .collect();
         let (id_to_object_name, frame_count) = root
-            .optional_field("imgAnnotationDescriptions", |n| {
-                let names = n
-                    .optional_field("Id2ObjectNameDict", |dict| {
-                        dict.entries(|key, name| {
-                            let id = key.parse::<u32>().map_err(|_| {
-                                name.error("has a key that is not an instance id (a whole number)")
-                            })?;
-                            Ok((id, name.string()?))
-                        })
-                    })?
-                    .unwrap_or_default();
-                let frames = n
-                    .optional_field("perFrameAnnotations", |f| f.len())?
-                    .unwrap_or(0);
-                Ok((names, frames))
-            })?
+            .optional_field("imgAnnotationDescriptions", parse_image_descriptions)?
             .unwrap_or_default();
 
         let annotation = RopeAnnotation {

@@ -9,24 +9,40 @@
 
 use super::norm;
 
-/// Shortest distance between segments `a0`–`a1` and `b0`–`b1`, units (0 when they cross).
-fn segment_distance(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> f64 {
-    let cross = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
-        (p[0] - o[0]) * (q[1] - o[1]) - (q[0] - o[0]) * (p[1] - o[1])
-    };
-    if cross(a0, a1, b0) * cross(a0, a1, b1) <= 0.0 && cross(b0, b1, a0) * cross(b0, b1, a1) <= 0.0
-    {
+/// The `z` component of `(a − o) × (b − o)`: positive when `o → a → b` turns anticlockwise.
+pub fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (b[0] - o[0]) * (a[1] - o[1])
+}
+
+/// Whether segments `p1`–`q1` and `p2`–`q2` cross or touch (the release's
+/// `LineSegmentsIntersect`, which the fluid generator's stick placement uses too).
+pub fn segments_intersect(p1: [f64; 2], q1: [f64; 2], p2: [f64; 2], q2: [f64; 2]) -> bool {
+    cross(p1, q1, p2) * cross(p1, q1, q2) <= 0.0 && cross(p2, q2, p1) * cross(p2, q2, q1) <= 0.0
+}
+
+/// Where along segment `s0`–`s1` (0 at `s0`, 1 at `s1`) its point closest to `point` lies.
+fn segment_parameter(point: [f64; 2], s0: [f64; 2], s1: [f64; 2]) -> f64 {
+    let along = [s1[0] - s0[0], s1[1] - s0[1]];
+    let squared = along[0] * along[0] + along[1] * along[1];
+    if squared > 0.0 {
+        (((point[0] - s0[0]) * along[0] + (point[1] - s0[1]) * along[1]) / squared).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Shortest distance between segments `a0`–`a1` and `b0`–`b1`, units (0 when they cross or
+/// touch).
+pub fn segment_distance(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> f64 {
+    if segments_intersect(a0, a1, b0, b1) {
         return 0.0;
     }
     let to_segment = |p: [f64; 2], s0: [f64; 2], s1: [f64; 2]| {
-        let along = [s1[0] - s0[0], s1[1] - s0[1]];
-        let squared = along[0] * along[0] + along[1] * along[1];
-        let t = if squared > 0.0 {
-            (((p[0] - s0[0]) * along[0] + (p[1] - s0[1]) * along[1]) / squared).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        norm(p[0] - s0[0] - t * along[0], p[1] - s0[1] - t * along[1])
+        let t = segment_parameter(p, s0, s1);
+        norm(
+            p[0] - s0[0] - t * (s1[0] - s0[0]),
+            p[1] - s0[1] - t * (s1[1] - s0[1]),
+        )
     };
     to_segment(a0, b0, b1)
         .min(to_segment(a1, b0, b1))
@@ -56,16 +72,11 @@ pub struct Collider {
 impl Collider {
     /// The point of the centre line closest to `point`.
     fn closest(&self, point: [f64; 2]) -> [f64; 2] {
-        let along = [self.end[0] - self.start[0], self.end[1] - self.start[1]];
-        let squared = along[0] * along[0] + along[1] * along[1];
-        let t = if squared > 0.0 {
-            (((point[0] - self.start[0]) * along[0] + (point[1] - self.start[1]) * along[1])
-                / squared)
-                .clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        [self.start[0] + t * along[0], self.start[1] + t * along[1]]
+        let t = segment_parameter(point, self.start, self.end);
+        [
+            self.start[0] + t * (self.end[0] - self.start[0]),
+            self.start[1] + t * (self.end[1] - self.start[1]),
+        ]
     }
 
     /// Distance from `point` to the centre line, units.

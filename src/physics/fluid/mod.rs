@@ -34,7 +34,7 @@
 mod collide;
 mod grid;
 
-pub use collide::Collider;
+pub use collide::{Collider, cross, segment_distance, segments_intersect};
 
 use rand::Rng as _;
 use rand_chacha::ChaCha8Rng;

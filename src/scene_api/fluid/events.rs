@@ -289,7 +289,7 @@ impl FluidBackend {
                 Ok(contacts.contains_key(&target.name))
             }
             Outcome::Enter => Ok(tracking.particles_in(&target.name, fluid) > 0),
-            Outcome::EnterMost => Ok(self.holds_most(tracking, &target.name, fluid)),
+            Outcome::EnterMost => Ok(tracking.holds_most(&target.name, fluid)),
         }
     }
 
@@ -355,19 +355,5 @@ impl FluidBackend {
                 _ => subject.name.as_str(),
             }),
         }
-    }
-
-    /// Whether `container` holds strictly more of `fluid` than every other container in
-    /// `tracking` (an unlisted fluid counts 0, so a container without it never holds most).
-    fn holds_most(&self, tracking: &FluidTracking, container: &str, fluid: &str) -> bool {
-        let count = tracking.particles_in(container, fluid);
-        count > 0
-            && self
-                .annotation
-                .layout
-                .reservoirs
-                .iter()
-                .filter(|other| other.name != container)
-                .all(|other| tracking.particles_in(&other.name, fluid) < count)
     }
 }

@@ -32,10 +32,8 @@ mod events;
 #[cfg(test)]
 mod tests;
 
-use std::collections::BTreeSet;
-
 use crate::dataset::Scenario;
-use crate::dataset::fluid::outcome::transitive_closure;
+use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, VOCABULARY, emitter_name, later_fluid_name,
     parse_fluid_object_name,
@@ -103,7 +101,7 @@ pub(crate) struct FluidBackend {
     /// What each object stands for, by object index.
     roles: Vec<Role>,
     /// `(heavier, lighter)` base-fluid pairs of `allDensityRelations` after transitive closure.
-    heavier_than: BTreeSet<(String, String)>,
+    density: DensityOrdering,
     /// Where dynamics and properties come from.
     dynamics: DynamicsBackend,
 }
@@ -124,14 +122,8 @@ impl FluidBackend {
     /// The backend of `annotation` under `dynamics`.
     pub(crate) fn new(annotation: FluidAnnotation, dynamics: DynamicsBackend) -> FluidBackend {
         let (objects, roles) = scene_objects(&annotation.layout);
-        let relations: Vec<(String, String)> = annotation
-            .tracking
-            .density_relations
-            .iter()
-            .map(|relation| (relation.heavier.clone(), relation.lighter.clone()))
-            .collect();
         FluidBackend {
-            heavier_than: transitive_closure(&relations).into_iter().collect(),
+            density: annotation.tracking.density_ordering(),
             annotation,
             objects,
             roles,
@@ -217,10 +209,9 @@ impl FluidBackend {
         if a == b {
             return Ok(vec![Some(first_density), Some(second_density)]);
         }
-        let pair = |x: &str, y: &str| self.heavier_than.contains(&(x.to_string(), y.to_string()));
-        let heavier = match (pair(a, b), pair(b, a)) {
-            (true, false) => true,
-            (false, true) => false,
+        let heavier = match self.density.order(a, b) {
+            DensityOrder::Heavier => true,
+            DensityOrder::Lighter => false,
             // Unrelated (or related both ways, which only corrupt data gives): the video cannot
             // compare them.
             _ => return Ok(vec![None, None]),

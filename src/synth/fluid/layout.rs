@@ -12,6 +12,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
 use crate::perception::palette::PALETTE;
+use crate::physics::fluid::{cross, segment_distance, segments_intersect};
 
 /// Tank inner width and height, units (`container_size_range`).
 pub const TANK: [f64; 2] = [5.0, 2.5];
@@ -291,36 +292,6 @@ fn valid_with_others(sticks: &[Stick], new: &Stick) -> bool {
             (false, false) => true,
         }
     })
-}
-
-fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - o[0]) * (b[1] - o[1]) - (b[0] - o[0]) * (a[1] - o[1])
-}
-
-/// The release's `LineSegmentsIntersect` (touching counts).
-fn segments_intersect(p1: [f64; 2], q1: [f64; 2], p2: [f64; 2], q2: [f64; 2]) -> bool {
-    cross(p1, q1, p2) * cross(p1, q1, q2) <= 0.0 && cross(p2, q2, p1) * cross(p2, q2, q1) <= 0.0
-}
-
-fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let along = [b[0] - a[0], b[1] - a[1]];
-    let squared = along[0] * along[0] + along[1] * along[1];
-    if squared == 0.0 {
-        return (p[0] - a[0]).hypot(p[1] - a[1]);
-    }
-    let t = (((p[0] - a[0]) * along[0] + (p[1] - a[1]) * along[1]) / squared).clamp(0.0, 1.0);
-    (p[0] - a[0] - t * along[0]).hypot(p[1] - a[1] - t * along[1])
-}
-
-/// Shortest distance between two segments, 0 when they cross.
-pub fn segment_distance(p1: [f64; 2], q1: [f64; 2], p2: [f64; 2], q2: [f64; 2]) -> f64 {
-    if segments_intersect(p1, q1, p2, q2) {
-        return 0.0;
-    }
-    point_segment_distance(p1, p2, q2)
-        .min(point_segment_distance(q1, p2, q2))
-        .min(point_segment_distance(p2, p1, q1))
-        .min(point_segment_distance(q2, p1, q1))
 }
 
 /// `rotatorTriangles`: the two triangles a rotatable stick would sweep.

@@ -127,6 +127,8 @@ fn trial(
     let factual = run(&layout, &scene, RunKind::Factual, timeline, emission_seed)
         .map_err(|e| e.to_string())?;
     let tracking = track(&layout, &scene, &factual, None);
+    let view = FluidView::new(&layout, &scene);
+    let camera = frame_camera(&camera_sample, view.bounds(), FIELD_PADDING, width, height);
     let mut steps = factual.updates as u64;
     let mut counterfactuals = Map::new();
     for (index, stick) in tracking.sticks_to_remove(rng).iter().enumerate() {
@@ -147,14 +149,9 @@ fn trial(
                 "trackingData": changed.to_json(),
                 "removedStickName": stick,
                 "outputLight": light_json(light_euler),
-                "outputCamera": Value::Null,
+                "outputCamera": camera_json(&camera),
             }),
         );
-    }
-    let view = FluidView::new(&layout, &scene);
-    let camera = frame_camera(&camera_sample, view.bounds(), FIELD_PADDING, width, height);
-    for entry in counterfactuals.values_mut() {
-        entry["outputCamera"] = camera_json(&camera);
     }
     let mut annotations = Map::new();
     annotations.insert("validity".into(), json!(true));

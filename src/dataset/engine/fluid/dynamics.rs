@@ -24,7 +24,7 @@ use super::templates::{
     object_option, removal_option,
 };
 use crate::dataset::QuestionRecord;
-use crate::dataset::engine::record::{DraftOption, choice_record};
+use crate::dataset::engine::record::{DraftOption, choice_record, draw_weighted};
 use crate::dataset::fluid::{FluidAnnotation, FluidTracking};
 
 /// Fewest options of a question.
@@ -210,27 +210,10 @@ pub(super) fn counterfactual_questions(
     (pass, container)
 }
 
-/// Whether `container` holds strictly more of `fluid` than every other container of the scene
-/// in `tracking` (an unlisted fluid counts 0, so a container without it never holds most).
-pub(super) fn holds_most(
-    scene: &FluidScene<'_>,
-    tracking: &FluidTracking,
-    container: &str,
-    fluid: &str,
-) -> bool {
-    let count = tracking.particles_in(container, fluid);
-    count > 0
-        && scene
-            .containers
-            .iter()
-            .filter(|other| other.name != container)
-            .all(|other| tracking.particles_in(other.name, fluid) < count)
-}
-
 /// `fluid_goaldriven_container`: "What can we do to let most of the {c} fluid enter the {k}
 /// container?" for every factual fluid and container, with options "Remove the {s} stick", one
 /// per counterfactual run (the first run of a stick removed twice), true when that run leaves
-/// most of the fluid in the container ([`holds_most`]). Question program:
+/// most of the fluid in the container ([`FluidTracking::holds_most`]). Question program:
 /// `[fluid, "enter most", container]`; option programs `[stick, "remove", "stick"]`.
 pub(super) fn goal_driven_questions(
     scene: &FluidScene<'_>,
@@ -258,7 +241,7 @@ pub(super) fn goal_driven_questions(
                         REMOVE.to_string(),
                         "stick".to_string(),
                     ],
-                    correct: holds_most(scene, tracking, container.name, fluid.name),
+                    correct: tracking.holds_most(container.name, fluid.name),
                 }));
             let Some(options) = option_set(true_options, false_options, rng) else {
                 continue;
@@ -293,14 +276,7 @@ fn option_set(
     options.extend(true_options.pop());
     options.extend(false_options.pop());
     while options.len() < wanted {
-        let total = true_options.len() + false_options.len();
-        let false_probability = false_options.len() as f64 / total as f64;
-        let next = if rng.random::<f64>() < false_probability {
-            false_options.pop()
-        } else {
-            true_options.pop()
-        };
-        let Some(next) = next else {
+        let Some(next) = draw_weighted(&mut true_options, &mut false_options, rng) else {
             break;
         };
         options.push(next);

@@ -10,12 +10,13 @@
 
 use rand::Rng;
 
-use super::scene::{DensityOrder, FluidScene};
+use super::scene::FluidScene;
 use super::templates::{
     CANNOT_ANSWER, DENSITY, DENSITY_TITLE, STICK_NUMBER, STICK_NUMBER_TITLE, fill,
 };
 use crate::dataset::QuestionRecord;
 use crate::dataset::engine::record::open_ended_record;
+use crate::dataset::fluid::outcome::DensityOrder;
 
 /// Probability that a pair of fluids no relation links yields a "can not answer" question (else
 /// skipped), as in the rope engine.

@@ -5,9 +5,7 @@
 //! paper's templates do. The release gives every fluid, stick and container of a kind a distinct
 //! colour; should two share one, neither is asked about (no phrase tells them apart).
 
-use std::collections::BTreeSet;
-
-use crate::dataset::fluid::outcome::transitive_closure;
+use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::fluid::{FluidAnnotation, later_fluid_name, parse_fluid_object_name};
 
 /// An object the engine can ask about.
@@ -35,19 +33,6 @@ impl LaterFluid<'_> {
     }
 }
 
-/// How two fluids' densities compare in the recorded relations.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum DensityOrder {
-    /// The first is denser.
-    Heavier,
-    /// The first is lighter.
-    Lighter,
-    /// No recorded relation (after closure) links them.
-    Unknown,
-    /// Relations in both directions: only corrupt data gives these.
-    Contradictory,
-}
-
 /// The engine's view of one video.
 #[derive(Debug, Clone)]
 pub(super) struct FluidScene<'a> {
@@ -59,8 +44,8 @@ pub(super) struct FluidScene<'a> {
     pub(super) sticks: Vec<Reference<'a>>,
     /// The containers, in `metaSamplingData.reservoirs` order.
     pub(super) containers: Vec<Reference<'a>>,
-    /// `(heavier, lighter)` base-fluid pairs of `allDensityRelations` after transitive closure.
-    heavier_than: BTreeSet<(String, String)>,
+    /// `allDensityRelations` (base fluids) after transitive closure.
+    density: DensityOrdering,
 }
 
 impl<'a> FluidScene<'a> {
@@ -81,30 +66,18 @@ impl<'a> FluidScene<'a> {
                 })
             })
             .collect();
-        let relations: Vec<(String, String)> = annotation
-            .tracking
-            .density_relations
-            .iter()
-            .map(|relation| (relation.heavier.clone(), relation.lighter.clone()))
-            .collect();
         FluidScene {
             fluids,
             later_fluids,
             sticks: references(layout.sticks.iter().map(|stick| stick.name.as_str())),
             containers: references(layout.reservoirs.iter().map(|r| r.name.as_str())),
-            heavier_than: transitive_closure(&relations).into_iter().collect(),
+            density: annotation.tracking.density_ordering(),
         }
     }
 
     /// How `first`'s density compares with `second`'s (base fluid names).
     pub(super) fn density_order(&self, first: &str, second: &str) -> DensityOrder {
-        let pair = |a: &str, b: &str| self.heavier_than.contains(&(a.to_string(), b.to_string()));
-        match (pair(first, second), pair(second, first)) {
-            (true, false) => DensityOrder::Heavier,
-            (false, true) => DensityOrder::Lighter,
-            (false, false) => DensityOrder::Unknown,
-            (true, true) => DensityOrder::Contradictory,
-        }
+        self.density.order(first, second)
     }
 
     /// The stick named `name`, if it can be referred to.

@@ -392,26 +392,10 @@ fn a_tie_is_not_most() {
             ("Remove the brown stick", false)
         ])
     );
-    let scene = scene::FluidScene::new(&annotation);
     let without_brown = &annotation.counterfactuals[0].tracking;
-    assert!(!dynamics::holds_most(
-        &scene,
-        without_brown,
-        "Red Container",
-        "Yellow Fluid"
-    ));
-    assert!(!dynamics::holds_most(
-        &scene,
-        without_brown,
-        "Green Container",
-        "Yellow Fluid"
-    ));
-    assert!(dynamics::holds_most(
-        &scene,
-        without_brown,
-        "Green Container",
-        "Pink Fluid"
-    ));
+    assert!(!without_brown.holds_most("Red Container", "Yellow Fluid"));
+    assert!(!without_brown.holds_most("Green Container", "Yellow Fluid"));
+    assert!(without_brown.holds_most("Green Container", "Pink Fluid"));
 }
 
 #[test]

@@ -19,7 +19,7 @@ use super::templates::{
     MOTION_DIRECTION_TITLES, ROTATION_DIRECTION_TITLES, fill,
 };
 use crate::dataset::QuestionRecord;
-use crate::dataset::engine::record::{DraftOption, choice_record};
+use crate::dataset::engine::record::{DraftOption, choice_record, draw_weighted};
 use crate::dataset::rope::{RopeAnnotation, RopeChange, RopeCounterfactual, RopeObjectKind};
 
 /// Probability of adding "would not rotate/move" as an extra false option for a moving object.
@@ -256,25 +256,6 @@ fn counterfactual_option_sets(
         option_sets.push(options);
     }
     option_sets
-}
-
-/// Pops a false option with probability |F|/(|F|+|T|), else a true one; `None` when both are
-/// empty.
-fn draw_weighted(
-    true_options: &mut Vec<DraftOption>,
-    false_options: &mut Vec<DraftOption>,
-    rng: &mut impl Rng,
-) -> Option<DraftOption> {
-    let total = true_options.len() + false_options.len();
-    if total == 0 {
-        return None;
-    }
-    let false_probability = false_options.len() as f64 / total as f64;
-    if rng.random::<f64>() < false_probability {
-        false_options.pop()
-    } else {
-        true_options.pop()
-    }
 }
 
 /// `rope_counterfactual2`: "If the {load} were much {…}, which direction would the {x}
