@@ -7,6 +7,7 @@
 
 mod bench;
 mod bench_inference;
+mod bench_mpm;
 mod bench_physics;
 mod error;
 mod evaluate;
@@ -26,6 +27,7 @@ mod settings;
 mod source;
 
 pub use error::{AppError, ErrorClass};
+pub use bench_mpm::BenchMpm88Settings;
 pub use perception::{BenchPerceptionSettings, FitColorsSettings, FrameSelection};
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
@@ -59,6 +61,7 @@ pub fn execute(request: Request) -> ExitCode {
         Request::Generate(settings) => generate::generate(&settings),
         Request::FitColors(settings) => perception::fit_colors(&settings),
         Request::BenchPerception(settings) => perception::bench_perception(&settings),
+        Request::BenchMpm88(settings) => bench_mpm::bench_mpm88(&settings),
     };
     match result {
         Ok(code) => code,

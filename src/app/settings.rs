@@ -42,6 +42,8 @@ pub enum Request {
     FitColors(super::perception::FitColorsSettings),
     /// `bench perception`.
     BenchPerception(super::perception::BenchPerceptionSettings),
+    /// `bench mpm88`.
+    BenchMpm88(super::bench_mpm::BenchMpm88Settings),
 }
 
 /// Which sampled split(s) a run evaluates.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchLlmSettings, BenchPerceptionSettings, BenchPhysicsSettings, BenchSettings, Budgets,
+    BenchLlmSettings, BenchMpm88Settings, BenchPerceptionSettings, BenchPhysicsSettings, BenchSettings, Budgets,
     CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings, FitColorsSettings,
     FrameSelection, FramesSelection, GenerateSettings, LlmSettings, ModelOverrides,
     QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
@@ -544,6 +544,20 @@ pub enum BenchCommand {
         #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
         steps: Option<Vec<f64>>,
     },
+    /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
+    /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle
+    /// substeps per second. `benches/mpm88.sh` runs Taichi beside it.
+    Mpm88 {
+        /// Initial positions, an `(N, 2)` float32 or float64 `.npy` file.
+        #[arg(long, value_name = "FILE.npy")]
+        init: PathBuf,
+        /// Substeps to time.
+        #[arg(long, value_name = "N", default_value_t = 2000)]
+        steps: u64,
+        /// Worker threads.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        threads: usize,
+    },
     /// Mass relations inferred from tracked motion (what `--dynamics simulate` answers mass and
     /// tension questions with) against the videos' masses, pair by pair, as JSON.
     Inference {
@@ -761,6 +775,15 @@ impl Cli {
                     colors,
                 },
                 threads: threads.max(1),
+            }),
+            Some(Command::Bench(BenchCommand::Mpm88 {
+                init,
+                steps,
+                threads,
+            })) => Request::BenchMpm88(BenchMpm88Settings {
+                init,
+                steps,
+                threads,
             }),
             Some(Command::Bench(BenchCommand::Inference { data, noise })) => {
                 Request::BenchInference(data, noise)

@@ -11,6 +11,7 @@
 //!   [`rope::identify`] infers load masses from observed motion.
 //! * [`fluid`]: 2D position-based fluids, the fluid scenario's truth solver (the release's Obi
 //!   Fluid settings).
+//! * [`mpm`]: 2D MLS-MPM (core plus materials), ContPRO's simulator for fluids and balls.
 //! * [`linalg`]: the small dense solvers they share.
 //! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
 //!   answers).
@@ -18,4 +19,5 @@
 pub mod bench;
 pub mod fluid;
 pub mod linalg;
+pub mod mpm;
 pub mod rope;

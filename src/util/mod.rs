@@ -1,10 +1,12 @@
-//! Shared low-level helpers: stable content hashing, seed derivation and crash-safe file writes.
+//! Shared low-level helpers: stable content hashing, seed derivation, crash-safe file writes and
+//! `.npy` point arrays.
 //!
 //! Inputs are bytes, JSON values and paths; outputs are hex digests, seeded RNGs and files on disk.
 //! This module depends on nothing else in the crate (layer 0 of `docs/architecture.md`, layers).
 
 mod fs;
 mod hash;
+pub mod npy;
 mod seed;
 
 pub use fs::{FsError, append_line_durable, write_atomic};
