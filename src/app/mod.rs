@@ -26,8 +26,8 @@ mod score;
 mod settings;
 mod source;
 
-pub use error::{AppError, ErrorClass};
 pub use bench_mpm::BenchMpm88Settings;
+pub use error::{AppError, ErrorClass};
 pub use perception::{BenchPerceptionSettings, FitColorsSettings, FrameSelection};
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,

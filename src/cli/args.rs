@@ -5,10 +5,11 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
-    BenchLlmSettings, BenchMpm88Settings, BenchPerceptionSettings, BenchPhysicsSettings, BenchSettings, Budgets,
-    CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings, FitColorsSettings,
-    FrameSelection, FramesSelection, GenerateSettings, LlmSettings, ModelOverrides,
-    QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings, SplitSelection,
+    BenchLlmSettings, BenchMpm88Settings, BenchPerceptionSettings, BenchPhysicsSettings,
+    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
+    FitColorsSettings, FrameSelection, FramesSelection, GenerateSettings, LlmSettings,
+    ModelOverrides, QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings,
+    SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};

@@ -51,16 +51,20 @@ pub fn read_points(bytes: &[u8]) -> Result<Vec<[f64; 2]>, NpyError> {
     }
     let values: Vec<f64> = data
         .chunks_exact(width)
-        .map(|chunk| match chunk {
-            [a, b, c, d] => f64::from(f32::from_le_bytes([*a, *b, *c, *d])),
-            _ => {
+        .map(|chunk| {
+            if let [a, b, c, d] = chunk {
+                f64::from(f32::from_le_bytes([*a, *b, *c, *d]))
+            } else {
                 let mut array = [0u8; 8];
                 array.copy_from_slice(chunk);
                 f64::from_le_bytes(array)
             }
         })
         .collect();
-    Ok(values.chunks_exact(2).map(|pair| [pair[0], pair[1]]).collect())
+    Ok(values
+        .chunks_exact(2)
+        .map(|pair| [pair[0], pair[1]])
+        .collect())
 }
 
 /// Writes points as an `(N, 2)` `<f8` array.
@@ -75,7 +79,9 @@ pub fn write_points(points: &[[f64; 2]]) -> Vec<u8> {
     }
     header.push('\n');
     let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    // The header is a short fixed text padded to 64 bytes: it fits a u16.
+    let length = u16::try_from(header.len()).unwrap_or(u16::MAX);
+    bytes.extend_from_slice(&length.to_le_bytes());
     bytes.extend_from_slice(header.as_bytes());
     for point in points {
         bytes.extend_from_slice(&point[0].to_le_bytes());
@@ -118,7 +124,9 @@ fn header_value(header: &str, key: &str) -> Result<String, NpyError> {
         rest.find([',', '}'])
     };
     let Some(end) = end else {
-        return Err(NpyError::Format(format!("header value of '{key}' is unterminated")));
+        return Err(NpyError::Format(format!(
+            "header value of '{key}' is unterminated"
+        )));
     };
     Ok(rest[..end].trim().to_string())
 }
@@ -131,15 +139,17 @@ mod tests {
     fn points_round_trip_through_float64() {
         let points = vec![[0.25, -1.5], [3.0, 1e-300]];
         assert_eq!(read_points(&write_points(&points)).unwrap(), points);
-        assert_eq!(read_points(&write_points(&[])).unwrap(), Vec::<[f64; 2]>::new());
+        assert_eq!(
+            read_points(&write_points(&[])).unwrap(),
+            Vec::<[f64; 2]>::new()
+        );
     }
 
     #[test]
     fn float32_files_from_numpy_read_exactly() {
         // np.array([[0.5, 0.25], [0.1, 2.0]], dtype=np.float32), saved by numpy 2.
         let mut bytes = b"\x93NUMPY\x01\x00v\x00".to_vec();
-        let mut header =
-            "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 2), }".to_string();
+        let mut header = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 2), }".to_string();
         while header.len() < 117 {
             header.push(' ');
         }
@@ -174,7 +184,10 @@ mod tests {
                 "dtype <i8: need little-endian float32 (<f4) or float64 (<f8)".to_string()
             ))
         );
-        assert!(matches!(read_points(b"PK\x03\x04"), Err(NpyError::Format(_))));
+        assert!(matches!(
+            read_points(b"PK\x03\x04"),
+            Err(NpyError::Format(_))
+        ));
         let mut short = bad.clone();
         short.pop();
         assert!(matches!(read_points(&short), Err(NpyError::Array(_))));

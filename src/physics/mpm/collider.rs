@@ -4,9 +4,14 @@
 //! (sticky, slip, or separate with Coulomb friction), as taichi_elements does; the nodes each
 //! collider reaches are found once, when the solver is built, since colliders do not move.
 //!
-//! A capsule thinner than the grid spacing may fall between nodes and let particles through:
-//! give sticks a radius of at least one spacing ([`Collider::node_radius`] says what the grid
-//! needs).
+//! Grid projection alone lets particles drift through a capsule about a cell thick: a particle
+//! takes its velocity from all nine nodes of its stencil, most of them outside the collider.
+//! So a particle that ends a substep inside a collider is also put back on its surface, its
+//! velocity projected by the same boundary condition (counted in `WorkCounters::pushed_out`).
+//! Only particles whose nearest node lies within two cells of a collider are tested.
+//! [`Collider::node_radius`] is the thinnest capsule every point of whose axis has a node inside.
+
+use super::{GridSpec, ParticleState};
 
 /// A collider's shape.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,10 +62,7 @@ impl Collider {
     /// Signed distance from `point` (negative inside) and the outward unit normal there.
     pub fn signed_distance(&self, point: [f64; 2]) -> (f64, [f64; 2]) {
         match self.shape {
-            Shape::HalfPlane {
-                point: on,
-                normal,
-            } => (
+            Shape::HalfPlane { point: on, normal } => (
                 (point[0] - on[0]) * normal[0] + (point[1] - on[1]) * normal[1],
                 normal,
             ),
@@ -143,5 +145,80 @@ pub(super) fn project(velocity: [f64; 2], normal: [f64; 2], boundary: Boundary) 
             let keep = (1.0 + friction * normal_speed / tangent_speed).max(0.0);
             [tangent[0] * keep, tangent[1] * keep]
         }
+    }
+}
+
+/// Colliders rasterised onto the grid nodes, once, since they do not move.
+#[derive(Debug, Clone)]
+pub(super) struct ColliderGrid {
+    colliders: Vec<Collider>,
+    /// Per node: index into `constraints` of the collider it lies deepest inside, or `u32::MAX`.
+    node_constraint: Vec<u32>,
+    /// (outward normal at the node, boundary) of each constrained node.
+    constraints: Vec<([f64; 2], Boundary)>,
+    /// Per node: within two cells of some collider (particles there are tested).
+    near: Vec<bool>,
+}
+
+impl ColliderGrid {
+    /// Rasterises `colliders` onto the nodes of `grid`.
+    pub(super) fn new(grid: &GridSpec, colliders: &[Collider]) -> ColliderGrid {
+        let node_count = grid.nodes[0] * grid.nodes[1];
+        let mut rasterised = ColliderGrid {
+            colliders: colliders.to_vec(),
+            node_constraint: vec![u32::MAX; node_count],
+            constraints: Vec::new(),
+            near: vec![false; node_count],
+        };
+        if colliders.is_empty() {
+            return rasterised;
+        }
+        let margin = 2.0 * grid.spacing;
+        for i in 0..grid.nodes[0] {
+            for j in 0..grid.nodes[1] {
+                let index = i * grid.nodes[1] + j;
+                let position = grid.node_position(i, j);
+                let distances = colliders
+                    .iter()
+                    .map(|collider| (collider.signed_distance(position), collider.boundary));
+                let deepest = distances.clone().min_by(|a, b| a.0.0.total_cmp(&b.0.0));
+                if let Some(((distance, normal), boundary)) = deepest {
+                    rasterised.near[index] = distance < margin;
+                    if distance < 0.0 {
+                        rasterised.node_constraint[index] =
+                            u32::try_from(rasterised.constraints.len()).unwrap_or(u32::MAX);
+                        rasterised.constraints.push((normal, boundary));
+                    }
+                }
+            }
+        }
+        rasterised
+    }
+
+    /// The (outward normal, boundary) constraining node `index`, if it lies inside a collider.
+    #[inline]
+    pub(super) fn constraint(&self, index: usize) -> Option<([f64; 2], Boundary)> {
+        let constraint = *self.node_constraint.get(index)?;
+        self.constraints.get(constraint as usize).copied()
+    }
+
+    /// Puts a particle that ended a substep inside a collider back on the surface and projects
+    /// its velocity; `nearest` is the index of the node nearest to it. Returns whether it moved.
+    #[inline]
+    pub(super) fn push_out(&self, particle: &mut ParticleState, nearest: usize) -> bool {
+        if !self.near.get(nearest).copied().unwrap_or(false) {
+            return false;
+        }
+        let mut moved = false;
+        for collider in &self.colliders {
+            let (distance, normal) = collider.signed_distance(particle.position);
+            if distance < 0.0 {
+                particle.position[0] -= distance * normal[0];
+                particle.position[1] -= distance * normal[1];
+                particle.velocity = project(particle.velocity, normal, collider.boundary);
+                moved = true;
+            }
+        }
+        moved
     }
 }

@@ -66,7 +66,14 @@ impl Emitter {
 
     /// Particles per row.
     pub fn row_length(&self) -> usize {
-        ((self.width / self.spacing).floor() as usize).max(1)
+        // Width and spacing are checked positive and finite when the emitter is added.
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "a positive ratio of checked lengths"
+        )]
+        let row = (self.width / self.spacing).floor() as usize;
+        row.max(1)
     }
 
     /// Advances the emitter over a substep from `time` of length `dt`, pushing the positions and
@@ -114,8 +121,8 @@ impl Emitter {
         ]
         .iter()
         .all(|value| value.is_finite());
-        let unit = ((self.direction[0].powi(2) + self.direction[1].powi(2)).sqrt() - 1.0).abs()
-            < 1e-9;
+        let unit =
+            ((self.direction[0].powi(2) + self.direction[1].powi(2)).sqrt() - 1.0).abs() < 1e-9;
         finite
             && unit
             && self.width > 0.0

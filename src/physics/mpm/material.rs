@@ -79,7 +79,7 @@ impl Material {
     }
 
     /// Kirchhoff stress for volume ratio `j` and velocity gradient `c` (row-major).
-    #[inline(always)]
+    #[inline]
     pub fn kirchhoff_stress(&self, j: f64, c: &[f64; 4]) -> [f64; 4] {
         match self {
             Material::Fluid(fluid) => {

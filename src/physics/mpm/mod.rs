@@ -75,6 +75,9 @@ pub enum MpmError {
         /// Velocity, y.
         vy: f64,
     },
+    /// The solver already holds as many particles as ids can count (2³² − 1).
+    #[error("MPM: no more particles can be added ({0} exist)")]
+    TooManyParticles(u32),
     /// A time step is not positive and finite.
     #[error("MPM time step {0} s is not positive and finite")]
     InvalidTimeStep(f64),

@@ -28,8 +28,13 @@ fn fill(
     velocity: [f64; 2],
 ) -> usize {
     let spacing = solver.grid().spacing * 0.5;
-    let columns = ((max[0] - min[0]) / spacing).round() as usize;
-    let rows = ((max[1] - min[1]) / spacing).round() as usize;
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "a small positive count of lattice sites"
+    )]
+    let count = |extent: f64| (extent / spacing).round() as usize;
+    let (columns, rows) = (count(max[0] - min[0]), count(max[1] - min[1]));
     for row in 0..rows {
         for column in 0..columns {
             let position = [
@@ -42,6 +47,11 @@ fn fill(
         }
     }
     rows * columns
+}
+
+/// A velocity's bit patterns, for exact comparisons.
+fn bits(velocity: [f64; 2]) -> [u64; 2] {
+    velocity.map(f64::to_bits)
 }
 
 fn state_bytes(solver: &Solver) -> Vec<u8> {
@@ -67,16 +77,23 @@ fn a_lone_particle_falls_as_symplectic_euler() {
         gravity: [0.0, -9.8],
         ..Settings::default()
     };
-    let mut solver =
-        Solver::new(open_grid(64, 1.0 / 64.0), vec![water(1e3, 0.0)], &[], settings).unwrap();
-    solver.add_particle(0, [0.5, 0.8], [0.1, 0.0], 1e-4).unwrap();
+    let mut solver = Solver::new(
+        open_grid(64, 1.0 / 64.0),
+        vec![water(1e3, 0.0)],
+        &[],
+        settings,
+    )
+    .unwrap();
+    solver
+        .add_particle(0, [0.5, 0.8], [0.1, 0.0], 1e-4)
+        .unwrap();
     let dt = 1e-3;
     let steps = 200;
     for _ in 0..steps {
         solver.step(dt).unwrap();
     }
     let (state, _, _) = solver.particles_by_id()[0];
-    let n = steps as f64;
+    let n = f64::from(steps);
     // v_n = −g·n·dt, y_n = y₀ − g·dt²·n(n+1)/2: the grid passes a lone particle's velocity
     // through unchanged (weights sum to one, their first moment is zero).
     let expected_y = 0.8 - 9.8 * dt * dt * n * (n + 1.0) / 2.0;
@@ -93,14 +110,19 @@ fn momentum_is_conserved_without_gravity_and_walls() {
         gravity: [0.0, 0.0],
         ..Settings::default()
     };
-    let mut solver =
-        Solver::new(open_grid(64, 1.0 / 64.0), vec![water(50.0, 0.05)], &[], settings).unwrap();
+    let mut solver = Solver::new(
+        open_grid(64, 1.0 / 64.0),
+        vec![water(50.0, 0.05)],
+        &[],
+        settings,
+    )
+    .unwrap();
     // A blob with a shear and a spin, well away from the walls.
     let spacing = 1.0 / 128.0;
     for row in 0..24 {
         for column in 0..24 {
-            let x = 0.4 + column as f64 * spacing;
-            let y = 0.4 + row as f64 * spacing;
+            let x = 0.4 + f64::from(column) * spacing;
+            let y = 0.4 + f64::from(row) * spacing;
             let velocity = [0.3 + (y - 0.5) * 2.0, -0.1 - (x - 0.5) * 1.5];
             solver
                 .add_particle(0, [x, y], velocity, spacing * spacing)
@@ -124,8 +146,14 @@ fn momentum_is_conserved_without_gravity_and_walls() {
     }
     let after = momentum(&solver);
     let scale = before[0].abs().max(before[1].abs());
-    assert!((after[0] - before[0]).abs() < 1e-12 * scale, "{before:?} {after:?}");
-    assert!((after[1] - before[1]).abs() < 1e-12 * scale, "{before:?} {after:?}");
+    assert!(
+        (after[0] - before[0]).abs() < 1e-12 * scale,
+        "{before:?} {after:?}"
+    );
+    assert!(
+        (after[1] - before[1]).abs() < 1e-12 * scale,
+        "{before:?} {after:?}"
+    );
     assert_eq!(solver.counters().clamped, 0);
 }
 
@@ -135,8 +163,13 @@ fn emitters_add_exactly_their_budget_and_mass_is_exact() {
         gravity: [0.0, -9.8],
         ..Settings::default()
     };
-    let mut solver =
-        Solver::new(open_grid(64, 1.0 / 64.0), vec![water(1e3, 0.01)], &[], settings).unwrap();
+    let mut solver = Solver::new(
+        open_grid(64, 1.0 / 64.0),
+        vec![water(1e3, 0.01)],
+        &[],
+        settings,
+    )
+    .unwrap();
     let spacing = 1.0 / 128.0;
     let emitter = Emitter::new(
         0,
@@ -153,34 +186,56 @@ fn emitters_add_exactly_their_budget_and_mass_is_exact() {
     assert_eq!(solver.particle_count(), 500);
     assert_eq!(solver.counters().emitted, 500);
     let expected = 500.0 * 1000.0 * spacing * spacing;
-    assert_eq!(solver.total_mass(), (0..500).map(|_| 1000.0 * spacing * spacing).sum::<f64>());
+    // Exact to the bit: the mass is the sum of the particles' masses, none lost or made.
+    assert_eq!(
+        solver.total_mass().to_bits(),
+        (0..500)
+            .map(|_| 1000.0 * spacing * spacing)
+            .sum::<f64>()
+            .to_bits()
+    );
     assert!((solver.total_mass() - expected).abs() < 1e-12 * expected);
     assert!((solver.time() - 0.5).abs() < 1e-15);
 }
 
 #[test]
 fn a_resting_column_has_the_hydrostatic_volume_profile() {
-    // κ = 1e4, ρ = 1000, g = 9.8: J(d) = 1 − ρ g d / κ to first order (pressure κ(1 − J)/J).
+    // Pressure κ(1 − J)/J (Cauchy, from the Kirchhoff stress κ(J − 1)) balancing the weight of
+    // fluid of density ρ/J gives dJ/dd = −ρ g J / κ at depth d: J(d) = exp(−ρ g d / κ). With
+    // κ = 1e4, ρ = 1000, g = 9.8 the column compresses by 25% at the bottom, far past the linear
+    // profile 1 − ρ g d / κ, so the test fits −ln J. The viscosity (ν = 0.2 m²/s) damps the
+    // column's sloshing within a second, where water's would take minutes.
     let settings = Settings {
         gravity: [0.0, -9.8],
         ..Settings::default()
     };
     let bulk = 1e4;
-    let mut solver =
-        Solver::new(open_grid(48, 1.0 / 48.0), vec![water(bulk, 20.0)], &[], settings).unwrap();
+    let mut solver = Solver::new(
+        open_grid(48, 1.0 / 48.0),
+        vec![water(bulk, 200.0)],
+        &[],
+        settings,
+    )
+    .unwrap();
     let floor = 3.0 / 48.0;
-    fill(&mut solver, 0, [floor, floor], [1.0 - floor, floor + 0.3], [0.0; 2]);
-    solver.advance(1.5).unwrap();
+    fill(
+        &mut solver,
+        0,
+        [floor, floor],
+        [1.0 - floor, floor + 0.3],
+        [0.0; 2],
+    );
+    solver.advance(1.0).unwrap();
     let particles = solver.particles_by_id();
     let top = particles
         .iter()
         .map(|(state, _, _)| state.position[1])
         .fold(f64::MIN, f64::max);
-    // Least-squares slope of (1 − J) against depth, away from the surface and floor layers.
+    // Least-squares slope of −ln J against depth, away from the surface and floor layers.
     let samples: Vec<(f64, f64)> = particles
         .iter()
-        .map(|(state, _, _)| (top - state.position[1], 1.0 - state.volume_ratio))
-        .filter(|(depth, _)| *depth > 0.05 && *depth < 0.25)
+        .map(|(state, _, _)| (top - state.position[1], -state.volume_ratio.ln()))
+        .filter(|(depth, _)| *depth > 0.05 && *depth < 0.2)
         .collect();
     let n = samples.len() as f64;
     let mean_d = samples.iter().map(|s| s.0).sum::<f64>() / n;
@@ -193,10 +248,11 @@ fn a_resting_column_has_the_hydrostatic_volume_profile() {
     let slope = covariance / variance;
     let expected = 1000.0 * 9.8 / bulk;
     assert!(
-        (slope - expected).abs() < 0.1 * expected,
+        (slope - expected).abs() < 0.03 * expected,
         "slope {slope} against {expected}"
     );
-    // The surface is flat: every top-layer particle within a cell of the highest.
+    // At rest: the fastest particle moves at under 2% of √(2 g H), the speed of a free fall from
+    // the column's height.
     let speed = particles
         .iter()
         .map(|(state, _, _)| state.velocity[0].hypot(state.velocity[1]))
@@ -228,7 +284,13 @@ fn dam_break_front_follows_martin_and_moyce_below_ritter() {
     // Sound speed 20 m/s, ten times the front's: weakly compressible.
     let mut solver =
         Solver::new(open_grid(nodes, dx), vec![water(4e5, 0.0)], &[], settings).unwrap();
-    fill(&mut solver, 0, [wall, wall], [wall + a, wall + 2.0 * a], [0.0; 2]);
+    fill(
+        &mut solver,
+        0,
+        [wall, wall],
+        [wall + a, wall + 2.0 * a],
+        [0.0; 2],
+    );
     let time_scale = 2f64.sqrt() * (g / a).sqrt();
     let mut measured = Vec::new();
     for &(big_t, z) in &MARTIN_MOYCE[..4] {
@@ -295,7 +357,7 @@ fn serial_and_parallel_runs_give_the_same_bytes() {
 fn mpm88_after_2000_substeps_matches_taichi_f64() {
     // Taichi 1.7.4, f64, one thread, from the same float32 positions (benches/mpm88_taichi.py);
     // Taichi's fast-math and non-fast-math runs differ by 1e-13, so the bound is 1e-10.
-    let init = std::fs::read(concat!(
+    let init = fs_err::read(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/mpm88/init_8192_seed0.npy"
     ))
@@ -308,23 +370,41 @@ fn mpm88_after_2000_substeps_matches_taichi_f64() {
     }
     let summary = summary(&solver);
     let close = |ours: f64, theirs: f64| (ours - theirs).abs() <= 1e-10 * theirs.abs();
-    assert!(close(summary.mean_x, 0.47373425713658723), "{summary:?}");
-    assert!(close(summary.mean_y, 0.20105582295477337), "{summary:?}");
-    assert!(close(summary.kinetic_energy, 0.14932721093069184), "{summary:?}");
-    assert!(close(summary.mean_j, 0.9985287783510381), "{summary:?}");
+    assert!(
+        close(summary.mean_x, 0.473_734_257_136_587_23),
+        "{summary:?}"
+    );
+    assert!(
+        close(summary.mean_y, 0.201_055_822_954_773_37),
+        "{summary:?}"
+    );
+    assert!(
+        close(summary.kinetic_energy, 0.149_327_210_930_691_84),
+        "{summary:?}"
+    );
+    assert!(
+        close(summary.mean_j, 0.998_528_778_351_038_1),
+        "{summary:?}"
+    );
 }
 
 #[test]
 fn separate_boundary_removes_approach_and_applies_friction() {
     let normal = [0.0, 1.0];
     let free = Boundary::Separate { friction: 0.0 };
-    assert_eq!(project([1.0, -2.0], normal, free), [1.0, 0.0]);
-    assert_eq!(project([1.0, 2.0], normal, free), [1.0, 2.0]);
+    assert_eq!(bits(project([1.0, -2.0], normal, free)), bits([1.0, 0.0]));
+    assert_eq!(bits(project([1.0, 2.0], normal, free)), bits([1.0, 2.0]));
     let rough = Boundary::Separate { friction: 0.25 };
-    assert_eq!(project([1.0, -2.0], normal, rough), [0.5, 0.0]);
-    assert_eq!(project([1.0, -8.0], normal, rough), [0.0, 0.0]);
-    assert_eq!(project([1.0, -2.0], normal, Boundary::Slip), [1.0, 0.0]);
-    assert_eq!(project([1.0, -2.0], normal, Boundary::Sticky), [0.0, 0.0]);
+    assert_eq!(bits(project([1.0, -2.0], normal, rough)), bits([0.5, 0.0]));
+    assert_eq!(bits(project([1.0, -8.0], normal, rough)), bits([0.0, 0.0]));
+    assert_eq!(
+        bits(project([1.0, -2.0], normal, Boundary::Slip)),
+        bits([1.0, 0.0])
+    );
+    assert_eq!(
+        bits(project([1.0, -2.0], normal, Boundary::Sticky)),
+        bits([0.0, 0.0])
+    );
 }
 
 /// A small tank scene for the stiff and extreme cases: returns the solver after `seconds`, or
@@ -348,7 +428,10 @@ fn extreme_case(
 
 fn assert_bounded(solver: &Solver, max_speed: f64) {
     for (state, _, _) in solver.particles_by_id() {
-        assert!(state.position.iter().all(|v| (0.0..=1.0).contains(v)), "{state:?}");
+        assert!(
+            state.position.iter().all(|v| (0.0..=1.0).contains(v)),
+            "{state:?}"
+        );
         let speed = state.velocity[0].hypot(state.velocity[1]);
         assert!(speed.is_finite() && speed <= max_speed, "{state:?}");
         assert!(state.volume_ratio.is_finite() && state.volume_ratio > 0.0);
@@ -413,8 +496,13 @@ fn impossible_cases_are_typed_errors() {
         max_substeps: 1000,
         ..Settings::default()
     };
-    let mut solver =
-        Solver::new(open_grid(32, 1.0 / 32.0), vec![water(1e9, 0.0)], &[], settings).unwrap();
+    let mut solver = Solver::new(
+        open_grid(32, 1.0 / 32.0),
+        vec![water(1e9, 0.0)],
+        &[],
+        settings,
+    )
+    .unwrap();
     fill(&mut solver, 0, [0.2, 0.2], [0.3, 0.3], [0.0; 2]);
     assert!(matches!(
         solver.advance(1.0),
@@ -422,7 +510,11 @@ fn impossible_cases_are_typed_errors() {
     ));
     assert!(matches!(
         solver.add_particle(3, [0.5, 0.5], [0.0; 2], 1.0),
-        Err(MpmError::UnknownMaterial { material: 3, count: 1, .. })
+        Err(MpmError::UnknownMaterial {
+            material: 3,
+            count: 1,
+            ..
+        })
     ));
     assert!(matches!(
         solver.add_particle(0, [f64::NAN, 0.5], [0.0; 2], 1.0),
@@ -431,7 +523,12 @@ fn impossible_cases_are_typed_errors() {
     assert_eq!(solver.step(-1.0), Err(MpmError::InvalidTimeStep(-1.0)));
     let bad = water(-1.0, 0.0);
     assert!(matches!(
-        Solver::new(open_grid(32, 1.0 / 32.0), vec![bad], &[], Settings::default()),
+        Solver::new(
+            open_grid(32, 1.0 / 32.0),
+            vec![bad],
+            &[],
+            Settings::default()
+        ),
         Err(MpmError::InvalidMaterial { index: 0, .. })
     ));
 }
@@ -451,16 +548,23 @@ fn a_tilted_stick_carries_fluid_sideways_without_letting_it_through() {
         },
         boundary: Boundary::Separate { friction: 0.1 },
     };
-    let mut solver = Solver::new(open_grid(64, dx), vec![water(1e3, 0.01)], &[stick], settings)
-        .unwrap();
+    let mut solver = Solver::new(
+        open_grid(64, dx),
+        vec![water(1e3, 0.01)],
+        &[stick],
+        settings,
+    )
+    .unwrap();
     fill(&mut solver, 0, [0.25, 0.55], [0.35, 0.65], [0.0; 2]);
     solver.advance(0.4).unwrap();
-    // Over the stick's span, nothing lies below it.
+    // Over the stick's span, nothing lies in the band just below it. (Fluid that ran off the low
+    // end falls to the floor, 0.3 m lower, and spreads back under the stick: not a leak.)
     for (state, _, _) in solver.particles_by_id() {
         let [x, y] = state.position;
         if x > 0.2 + dx && x < 0.6 - dx {
             let line_y = 0.5 + (x - 0.2) * (0.35 - 0.5) / 0.4;
-            assert!(y > line_y - dx, "through the stick: {state:?}");
+            let below = line_y - y;
+            assert!(!(dx..0.1).contains(&below), "through the stick: {state:?}");
         }
     }
     let mean_x = solver
@@ -469,5 +573,8 @@ fn a_tilted_stick_carries_fluid_sideways_without_letting_it_through() {
         .map(|(state, _, _)| state.position[0])
         .sum::<f64>()
         / solver.particle_count() as f64;
-    assert!(mean_x > 0.4, "the fluid ran down the stick: mean x {mean_x}");
+    assert!(
+        mean_x > 0.4,
+        "the fluid ran down the stick: mean x {mean_x}"
+    );
 }
