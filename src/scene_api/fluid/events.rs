@@ -13,7 +13,9 @@
 //! emitter does not emit in counterfactual runs (the release re-simulates the first emitters
 //! only).
 
-use super::{FluidBackend, Role, simulate_not_implemented};
+use std::borrow::Cow;
+
+use super::{FluidBackend, Role};
 use crate::dataset::fluid::{FluidTracking, base_fluid_name};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, SceneEvent, SceneObjectInfo, Target, misuse,
@@ -21,8 +23,8 @@ use crate::scene_api::{
 
 /// The run an event starts.
 pub(super) struct Run<'a> {
-    /// Its tracking data.
-    tracking: &'a FluidTracking,
+    /// Its tracking data: recorded in the annotation, or simulated (`--dynamics simulate`).
+    tracking: Cow<'a, FluidTracking>,
     /// The stick removed in it (a counterfactual run).
     removed: Option<&'a SceneObjectInfo>,
     /// The tracking key of the fluid an `emit` event emits (`Later Emitted Yellow Fluid`).
@@ -114,10 +116,9 @@ impl FluidBackend {
         event: &SceneEvent,
         function: &str,
     ) -> Result<Run<'_>, ApiError> {
-        let factual = &self.annotation.tracking;
         let run = match event.action {
             EventAction::Simulate => Run {
-                tracking: factual,
+                tracking: self.run_tracking(None, function)?,
                 removed: None,
                 emitted: None,
             },
@@ -130,48 +131,59 @@ impl FluidBackend {
                     )));
                 };
                 Run {
-                    tracking: factual,
+                    tracking: self.run_tracking(None, function)?,
                     removed: None,
                     emitted: Some(fluid.as_str()),
                 }
             }
             EventAction::Remove => {
                 let stick = self.event_object(event, "stick", function)?;
-                if self.dynamics == DynamicsBackend::Simulate {
-                    return Err(simulate_not_implemented());
-                }
-                let record = self
-                    .annotation
-                    .counterfactual_without(&stick.name)
-                    .ok_or_else(|| {
-                        let removable: Vec<String> = self
-                            .annotation
-                            .counterfactuals
-                            .iter()
-                            .map(|run| run.removed_stick.to_lowercase())
-                            .collect();
-                        ApiError::Unavailable(format!(
-                            "{function}: this video has no counterfactual run without the {} (its runs remove: {})",
-                            stick.describe(),
-                            if removable.is_empty() {
-                                "none".to_string()
-                            } else {
-                                removable.join(", ")
-                            }
-                        ))
-                    })?;
                 Run {
-                    tracking: &record.tracking,
+                    tracking: self.run_tracking(Some(stick), function)?,
                     removed: Some(stick),
                     emitted: None,
                 }
             }
             EventAction::Increase | EventAction::Decrease => return Err(event_misuse()),
         };
-        if self.dynamics == DynamicsBackend::Simulate {
-            return Err(simulate_not_implemented());
-        }
         Ok(run)
+    }
+
+    /// The tracking data of the factual run, or of the run without `removed`: recorded in the
+    /// annotation (`--dynamics annotation`, which has counterfactual runs for a few sticks
+    /// only) or simulated on first use (`--dynamics simulate`, any stick).
+    fn run_tracking(
+        &self,
+        removed: Option<&SceneObjectInfo>,
+        function: &str,
+    ) -> Result<Cow<'_, FluidTracking>, ApiError> {
+        if self.dynamics == DynamicsBackend::Simulate {
+            let runs = self.simulated_runs()?;
+            return runs.run(removed.map(|stick| stick.name.as_str())).map(Cow::Owned);
+        }
+        let Some(stick) = removed else {
+            return Ok(Cow::Borrowed(&self.annotation.tracking));
+        };
+        self.annotation
+            .counterfactual_without(&stick.name)
+            .map(|record| Cow::Borrowed(&record.tracking))
+            .ok_or_else(|| {
+                let removable: Vec<String> = self
+                    .annotation
+                    .counterfactuals
+                    .iter()
+                    .map(|run| run.removed_stick.to_lowercase())
+                    .collect();
+                ApiError::Unavailable(format!(
+                    "{function}: this video has no counterfactual run without the {} (its runs remove: {})",
+                    stick.describe(),
+                    if removable.is_empty() {
+                        "none".to_string()
+                    } else {
+                        removable.join(", ")
+                    }
+                ))
+            })
     }
 
     /// The one object of `kind` an `emit` or `remove` event acts on: its object, or what its
@@ -272,7 +284,7 @@ impl FluidBackend {
         let target = self.happen_target(target, outcome)?;
         let run = self.event_run(event, "happen")?;
         let fluid = self.fluid_key(subject, &run)?;
-        let tracking = run.tracking;
+        let tracking = &run.tracking;
         match outcome {
             Outcome::Pass => {
                 // A removed stick is passed by nothing.

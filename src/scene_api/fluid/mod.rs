@@ -1,10 +1,12 @@
-//! The fluid scene (`fluid_slides`): objects from the annotation's layout and, with `--dynamics
-//! annotation` (the paper's offline mode), densities and flow outcomes from its tracking data.
+//! The fluid scene (`fluid_slides`): objects from the annotation's layout; densities and flow
+//! outcomes from its tracking data (`--dynamics annotation`, the paper's offline mode), or, with
+//! `--dynamics simulate` (ContPRO), inferred from the tracked particles (`infer`) and predicted
+//! by simulating the scene with MLS-MPM (`simulate`, `runs`).
 //!
-//! Input: a video's `outputs.json` ([`FluidAnnotation`]). Output: the scene's objects and the
-//! answers of `query`, `register_event` and `happen` (`docs/data/fluid.md`). It reads no frames
-//! and runs no simulator: `--dynamics simulate` and `--perception maskrcnn` are not implemented
-//! for fluid yet, and every call that would need them says so (`ApiError::Unavailable`).
+//! Input: a video's `outputs.json` ([`FluidAnnotation`]), and its `outputs4D.json` under
+//! `--dynamics simulate`. Output: the scene's objects and the answers of `query`,
+//! `register_event` and `happen` (`docs/data/fluid.md`). `--perception maskrcnn` is not
+//! implemented for fluid yet, and says so (`ApiError::Unavailable`).
 //!
 //! Objects, in this order: the fluids (`Pink Fluid`; a fluid's later emitter is not a fluid of
 //! its own), the containers, the regular sticks (a container's guided sticks are part of it),
@@ -26,16 +28,32 @@
 //!   run too, in which the emitter's fluid is the fluid of its colour (the later emitter's
 //!   fluid `Later Emitted <C> Fluid`); `remove` with a stick is the counterfactual run whose
 //!   `removedStickName` is that stick.
+//!
+//! Under `--dynamics simulate` the same rules read simulated runs instead (labelled by the same
+//! counting, `dataset::fluid::outcome`): the factual run through update 700 and one run without
+//! each stick a question removes (any stick, not only those the release re-simulated), each
+//! simulated once, on first use; densities compare when the video's layering orders the two,
+//! and take the values of the release's pool by inferred rank.
 
 mod events;
+mod infer;
+mod runs;
+pub mod simulate;
 
 #[cfg(test)]
 mod tests;
 
-use crate::dataset::Scenario;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use infer::{FluidInference, PerceivedFluidScene, infer_fluid_properties};
+use runs::{ReceptorBoxes, SimulatedRuns};
+use simulate::{FluidGeometry, FluidMaterialGuess, RunSettings};
+
+use crate::dataset::{FourDData, Scenario};
 use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::fluid::{
-    FluidAnnotation, FluidLayout, VOCABULARY, emitter_name, later_fluid_name,
+    FluidAnnotation, FluidLayout, VOCABULARY, Viscosity, emitter_name, later_fluid_name,
     parse_fluid_object_name,
 };
 use crate::dataset::vocabulary::Vocabulary;
@@ -54,14 +72,6 @@ const LATER_EMISSION: &str = "later";
 /// Loads the backend of a fluid video (the scenario table's scene backend for fluid).
 pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     Ok(Box::new(FluidBackend::load(spec)?))
-}
-
-/// The message of every call that needs `--dynamics simulate` on a fluid video.
-fn simulate_not_implemented() -> ApiError {
-    ApiError::Unavailable(
-        "fluid scenes cannot be simulated yet: `--dynamics simulate` is not implemented for fluid; run with `--dynamics annotation`"
-            .to_string(),
-    )
 }
 
 /// What an object of the scene stands for.
@@ -104,6 +114,12 @@ pub(crate) struct FluidBackend {
     density: DensityOrdering,
     /// Where dynamics and properties come from.
     dynamics: DynamicsBackend,
+    /// The video's folder (`outputs4D.json`, for `--dynamics simulate`).
+    video_dir: PathBuf,
+    /// The fluids' properties inferred from the tracked particles (`Simulate`), on first use.
+    inference: OnceLock<Result<FluidInference, ApiError>>,
+    /// The simulated runs (`Simulate`), set up on first use, each run made when first asked.
+    runs: OnceLock<Result<SimulatedRuns, ApiError>>,
 }
 
 impl FluidBackend {
@@ -116,11 +132,19 @@ impl FluidBackend {
             ));
         }
         let annotation = FluidAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-        Ok(FluidBackend::new(annotation, spec.dynamics))
+        Ok(FluidBackend::new(
+            annotation,
+            spec.dynamics,
+            spec.video_dir.clone(),
+        ))
     }
 
-    /// The backend of `annotation` under `dynamics`.
-    pub(crate) fn new(annotation: FluidAnnotation, dynamics: DynamicsBackend) -> FluidBackend {
+    /// The backend of `annotation` (of the video in `video_dir`) under `dynamics`.
+    pub(crate) fn new(
+        annotation: FluidAnnotation,
+        dynamics: DynamicsBackend,
+        video_dir: PathBuf,
+    ) -> FluidBackend {
         let (objects, roles) = scene_objects(&annotation.layout);
         FluidBackend {
             density: annotation.tracking.density_ordering(),
@@ -128,6 +152,102 @@ impl FluidBackend {
             objects,
             roles,
             dynamics,
+            video_dir,
+            inference: OnceLock::new(),
+            runs: OnceLock::new(),
+        }
+    }
+
+    /// The fluids' properties as the video shows them (`--dynamics simulate`): density order
+    /// from their layering in the containers, viscosity class from their speed on the sticks
+    /// (`infer`), inferred once.
+    fn inference(&self) -> Result<&FluidInference, ApiError> {
+        self.inference
+            .get_or_init(|| {
+                let path = self.video_dir.join("outputs4D.json");
+                if !path.is_file() {
+                    return Err(ApiError::Unavailable(format!(
+                        "fluid properties are inferred from the tracked particles, and this video has no outputs4D.json ({})",
+                        path.display()
+                    )));
+                }
+                let four_d = FourDData::load(&path)?;
+                let scene = PerceivedFluidScene::from_layout(&self.annotation.layout);
+                let video = self.video_dir.display().to_string();
+                infer_fluid_properties(&video, &scene, &four_d)
+                    .map_err(|error| ApiError::Data(error.to_string()))
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// The simulated runs (`--dynamics simulate`): the scene rebuilt from perception (the
+    /// annotation's transforms), each fluid with its inferred density (by rank) and viscosity
+    /// class (`Non-Sticky` when the video does not show it).
+    pub(super) fn simulated_runs(&self) -> Result<&SimulatedRuns, ApiError> {
+        self.runs
+            .get_or_init(|| {
+                let geometry = FluidGeometry::from_annotation(&self.annotation)
+                    .map_err(|error| ApiError::Data(error.to_string()))?;
+                let inference = self.inference()?;
+                let materials = inference
+                    .ranks
+                    .iter()
+                    .map(|rank| {
+                        let sticky = inference.viscosity.iter().any(|evidence| {
+                            evidence.fluid == rank.fluid
+                                && evidence.class == Some(Viscosity::Sticky)
+                        });
+                        let guess = FluidMaterialGuess {
+                            density: rank.density,
+                            sticky,
+                        };
+                        (rank.fluid.clone(), guess)
+                    })
+                    .collect();
+                let receptors = self
+                    .annotation
+                    .layout
+                    .receptors()
+                    .into_iter()
+                    .map(|receptor| ReceptorBoxes {
+                        name: receptor.name.to_string(),
+                        cup: receptor.cup,
+                        funnel: receptor.funnel,
+                    })
+                    .collect();
+                Ok(SimulatedRuns::new(
+                    geometry,
+                    receptors,
+                    materials,
+                    RunSettings::default(),
+                ))
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// `query_pair('density', a, b)` under `--dynamics simulate`: the inferred densities when
+    /// the video's layering orders the two (or they are one fluid), else `(None, None)`.
+    fn inferred_density(&self, infos: &[&SceneObjectInfo]) -> Result<Vec<Option<f64>>, ApiError> {
+        let inference = self.inference()?;
+        let density = |name: &str| {
+            inference
+                .ranks
+                .iter()
+                .find(|rank| rank.fluid == name)
+                .map(|rank| rank.density)
+        };
+        match infos {
+            [first, second] if first.name != second.name => {
+                match inference.density.order(&first.name, &second.name) {
+                    DensityOrder::Heavier | DensityOrder::Lighter => {
+                        Ok(vec![density(&first.name), density(&second.name)])
+                    }
+                    _ => Ok(vec![None, None]),
+                }
+            }
+            _ => Ok(infos.iter().map(|fluid| density(&fluid.name)).collect()),
         }
     }
 
@@ -328,7 +448,7 @@ impl ScenarioBackend for FluidBackend {
             )));
         }
         if self.dynamics == DynamicsBackend::Simulate {
-            return Err(simulate_not_implemented());
+            return self.inferred_density(&infos);
         }
         match infos.as_slice() {
             [first, second] => self.density_pair(first, second),
@@ -351,5 +471,12 @@ impl ScenarioBackend for FluidBackend {
         target: &Target,
     ) -> Result<bool, ApiError> {
         self.happens(event, object, action, target)
+    }
+
+    fn simulation_work(&self) -> (u64, u64) {
+        match self.runs.get() {
+            Some(Ok(runs)) => runs.work(),
+            _ => (0, 0),
+        }
     }
 }
