@@ -28,6 +28,7 @@
 //!   `removedStickName` is that stick.
 
 mod events;
+pub(crate) mod infer;
 
 #[cfg(test)]
 mod tests;
