@@ -1,7 +1,8 @@
 //! `bench inference --data DIR`: how well each scenario's properties inferred from the video
 //! (what `--dynamics simulate` answers property questions with) match the values the videos were
 //! made with, as JSON on stdout. The scenario's part of the scenario table does the scoring
-//! (rope: masses from tracked motion, `scene_api::rope`); `--noise σ,…` perturbs the tracks.
+//! (rope: masses from tracked motion, `scene_api::rope`; fluid: density order, viscosity and
+//! density ranks from tracked particles, `scene_api::fluid`); `--noise σ,…` perturbs the tracks.
 
 use std::process::ExitCode;
 

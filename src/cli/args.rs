@@ -559,8 +559,9 @@ pub enum BenchCommand {
         #[arg(long, value_name = "N", default_value_t = 1)]
         threads: usize,
     },
-    /// Mass relations inferred from tracked motion (what `--dynamics simulate` answers mass and
-    /// tension questions with) against the videos' masses, pair by pair, as JSON.
+    /// Properties inferred from tracked motion (what `--dynamics simulate` answers property
+    /// questions with) against the videos' values, as JSON: rope mass relations pair by pair;
+    /// fluid density order, viscosity classes and density ranks.
     Inference {
         /// Data root holding `<scenario folder>/<video_id>/`.
         #[arg(long, value_name = "DIR")]

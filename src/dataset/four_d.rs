@@ -28,7 +28,9 @@ pub struct RigidBodyTrack {
 /// One soft body's tracked particles.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SoftBodyTrack {
-    /// Per frame, the tracked particle positions (m). The count is constant per body.
+    /// Per frame, the tracked particle positions (m). The count never decreases: constant for
+    /// ropes, cloths and balls; a fluid's grows from 0 as its emitter releases particles, and
+    /// entry `k` is the same particle in every frame that holds it.
     pub particles: Vec<Vec<[f64; 3]>>,
 }
 
@@ -51,13 +53,21 @@ impl FourDData {
             let tracks = soft.field("softbodyTrackedParticles", |tracked| {
                 tracked.entries(|name, frames| {
                     let particles = frames.items(|frame| frame.items(point))?;
-                    if let Some(first) = particles.first()
-                        && let Some(bad) = particles.iter().position(|f| f.len() != first.len())
+                    // A body never loses tracked particles; a fluid gains them as its emitter
+                    // releases them (the k-th entry is the same particle in every frame).
+                    if let Some((bad, [before, after])) =
+                        particles.windows(2).enumerate().find_map(|(i, w)| match w {
+                            [before, after] if after.len() < before.len() => {
+                                Some((i, [before, after]))
+                            }
+                            _ => None,
+                        })
                     {
                         return Err(frames.error(format!(
-                            "frame {bad} has {} particles, frame 0 has {}",
-                            particles[bad].len(),
-                            first.len()
+                            "frame {} has {} particles, fewer than the {} of frame {bad}",
+                            bad + 1,
+                            after.len(),
+                            before.len()
                         )));
                     }
                     Ok((name.to_string(), SoftBodyTrack { particles }))

@@ -110,7 +110,7 @@ static TABLE: [ScenarioParts; 4] = [
         scene: Some(scene_api::fluid::load),
         perception: None,
         reading_check: None,
-        inference_bench: None,
+        inference_bench: Some(scene_api::fluid::infer::inference_report),
         physics_bench: None,
     },
     ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),

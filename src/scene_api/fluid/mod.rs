@@ -36,7 +36,7 @@
 //! and take the values of the release's pool by inferred rank.
 
 mod events;
-mod infer;
+pub(crate) mod infer;
 mod runs;
 pub mod simulate;
 

@@ -1,0 +1,613 @@
+//! Fluid properties inferred from what a video shows, for `--dynamics simulate`: which fluid is
+//! denser than which (from how fluids layer in the containers), whether each fluid is sticky
+//! (from how fast it flows along the sticks), and a density per fluid for a simulator (a total
+//! order consistent with the inferred one, mapped onto the release's density pool).
+//!
+//! Inputs: the scene as perception sees it ([`PerceivedFluidScene`]: tank sticks, containers,
+//! fluid names and emitter positions, built from the layout without its densities or
+//! viscosities) and the tracked particles of `outputs4D.json` ([`FourDData`]) over the video's
+//! frames only (frames `0..250`, updates up to 500). Nothing that is an answer is read: no
+//! `trackingData`, no counterfactual run, no density or viscosity of the layout.
+//!
+//! Outputs: [`FluidInference`], every verdict with its evidence (particle counts, heights,
+//! speeds) so it can be explained, and "cannot decide" where the video does not show enough.
+//! `bench inference` scores it against the annotations ([`inference_report`]).
+//!
+//! Why these signals. The truth relations come from fluids found together in a container at the
+//! end of the run, and the solver lets the denser fluid sink through the lighter one, so fluids
+//! sharing a container at the end of the video lie in layers, the denser below. Sticky fluids
+//! (Obi viscosity 10) are damped towards rest near a collider, so they creep along a stick
+//! while non-sticky ones (0.02) slide off at a few units a second.
+
+mod bench;
+#[cfg(test)]
+mod tests;
+
+pub(crate) use bench::inference_report;
+
+use indexmap::IndexMap;
+use serde::Serialize;
+
+use crate::dataset::FourDData;
+use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering, Rect};
+use crate::dataset::fluid::world::{
+    CAPTURE_UPDATES, DENSITIES_3_FLUIDS, DENSITIES_4_FLUIDS, UPDATE_SECONDS, UPDATES_PER_FRAME,
+};
+use crate::dataset::fluid::{FluidLayout, Viscosity, base_fluid_name};
+use crate::scene_api::ApiError;
+
+/// Frames of the video (updates 2 to 500, every second one): the 4-D data's frames past these,
+/// if any, are not read.
+const VIDEO_FRAMES: usize = (CAPTURE_UPDATES / UPDATES_PER_FRAME) as usize;
+/// Seconds between two frames.
+const FRAME_SECONDS: f64 = UPDATES_PER_FRAME as f64 * UPDATE_SECONDS;
+
+/// A fluid takes part in a container's layering with more than this many tracked particles in
+/// its cup at the last frame (of 100 per emitter): fewer are a few drops, not a layer.
+const LAYER_MIN_PARTICLES: usize = 5;
+/// Two fluids' median heights in a container must differ by more than this (units) for the
+/// lower to be called denser; a particle spacing is 0.025.
+const LAYER_MARGIN: f64 = 0.02;
+
+/// A particle counts as on a stick within this distance of the stick's surface (units): resting
+/// particles sit about half a spacing off it, flowing ones a few spacings.
+const STICK_NEAR: f64 = 0.08;
+/// A fluid whose particles move slower than this near the sticks (median, units/s) is sticky:
+/// on the tuning videos sticky fluids had medians 0.10–0.47, non-sticky ones 0.89–3.2.
+const STICKY_SPEED: f64 = 0.65;
+/// The viscosity is decided from at least this many particle-frames on sticks.
+const VISCOSITY_MIN_SAMPLES: usize = 20;
+/// ... of at least this many distinct tracked particles.
+const VISCOSITY_MIN_PARTICLES: usize = 3;
+
+/// Why the inference cannot run on a video's data.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(crate) enum InferError {
+    /// A fluid of the scene has no tracked particles in the 4-D data.
+    #[error("video `{video}`: fluid `{fluid}` has no tracked particles in outputs4D.json")]
+    Untracked {
+        /// The video.
+        video: String,
+        /// The fluid key.
+        fluid: String,
+    },
+    /// The 4-D data tracks a fluid the scene does not have.
+    #[error("video `{video}`: outputs4D.json tracks `{key}`, which is not a fluid of the scene")]
+    UnknownFluid {
+        /// The video.
+        video: String,
+        /// The soft-body key.
+        key: String,
+    },
+    /// A tracked position is not a finite number.
+    #[error("video `{video}`: fluid `{key}` particle {particle} at frame {frame} is not finite")]
+    NotFinite {
+        /// The video.
+        video: String,
+        /// The soft-body key.
+        key: String,
+        /// The frame.
+        frame: usize,
+        /// The particle's index in the frame.
+        particle: usize,
+    },
+    /// The scene's fluid count has no density pool in the release.
+    #[error("video `{video}`: {count} fluids; the release's density pools are for 3 or 4")]
+    FluidCount {
+        /// The video.
+        video: String,
+        /// The number of fluids.
+        count: usize,
+    },
+}
+
+impl From<InferError> for ApiError {
+    fn from(error: InferError) -> Self {
+        ApiError::Data(error.to_string())
+    }
+}
+
+/// A stick as a segment in world coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct StickSegment {
+    /// `<C> Stick`.
+    pub(crate) name: String,
+    /// One end, world units.
+    pub(crate) start: [f64; 2],
+    /// The other end.
+    pub(crate) end: [f64; 2],
+    /// Half its thickness, units.
+    pub(crate) half_thickness: f64,
+}
+
+impl StickSegment {
+    /// The distance from `point` to the stick's surface (0 inside).
+    fn distance(&self, point: [f64; 2]) -> f64 {
+        let (dx, dy) = (self.end[0] - self.start[0], self.end[1] - self.start[1]);
+        let length2 = dx * dx + dy * dy;
+        let t = if length2 > 0.0 {
+            (((point[0] - self.start[0]) * dx + (point[1] - self.start[1]) * dy) / length2)
+                .clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let gap = (point[0] - self.start[0] - t * dx).hypot(point[1] - self.start[1] - t * dy);
+        (gap - self.half_thickness).max(0.0)
+    }
+}
+
+/// A container as the layering sees it: its cup. (The truth's counting adds the funnel's box,
+/// but fluid there slides along the guided sticks or hangs on them instead of lying in layers:
+/// on the tuning videos the funnel's particles turned correct orders into wrong ones.)
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct ContainerRegion {
+    /// `<C> Container`.
+    pub(crate) name: String,
+    /// The cup, world units.
+    #[serde(skip)]
+    pub(crate) cup: Rect,
+}
+
+/// What perception sees of a fluid scene: geometry and fluid names, no properties.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct PerceivedFluidScene {
+    /// The regular sticks.
+    pub(crate) sticks: Vec<StickSegment>,
+    /// The containers, left to right.
+    pub(crate) containers: Vec<ContainerRegion>,
+    /// The base fluids (`Blue Fluid`), in layout order, with their emitter's world position.
+    pub(crate) fluids: Vec<(String, [f64; 2])>,
+}
+
+impl PerceivedFluidScene {
+    /// The scene of `layout`: only its geometry and names (never `density` or `viscosity`).
+    pub(crate) fn from_layout(layout: &FluidLayout) -> PerceivedFluidScene {
+        let origin = layout.tank.origin;
+        let world = |point: [f64; 2]| [point[0] + origin[0], point[1] + origin[1]];
+        PerceivedFluidScene {
+            sticks: layout
+                .sticks
+                .iter()
+                .map(|stick| StickSegment {
+                    name: stick.name.clone(),
+                    start: world(stick.start),
+                    end: world(stick.end),
+                    half_thickness: stick.scale[1] / 2.0,
+                })
+                .collect(),
+            containers: layout
+                .reservoirs
+                .iter()
+                .map(|reservoir| ContainerRegion {
+                    name: reservoir.name.clone(),
+                    cup: reservoir.cup_box(origin),
+                })
+                .collect(),
+            fluids: layout
+                .fluids
+                .iter()
+                .map(|fluid| {
+                    let [x, y, _] = fluid.emitter_position;
+                    (fluid.name.clone(), world([x, y]))
+                })
+                .collect(),
+        }
+    }
+}
+
+/// One tracked particle: its emitter key and its position in each video frame (`None` before it
+/// is emitted).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ParticleTrack {
+    /// The emitter key (`Blue Fluid`, `Later Emitted Blue Fluid`).
+    pub(crate) key: String,
+    /// World `[x, y]` per frame.
+    pub(crate) positions: Vec<Option<[f64; 2]>>,
+}
+
+/// Every tracked particle of each base fluid, in the scene's fluid order.
+pub(crate) type FluidTracks = IndexMap<String, Vec<ParticleTrack>>;
+
+/// The tracks of `four_d` by base fluid of `scene`, frames `0..250` only. A later emitter's
+/// particles join its base fluid's.
+pub(crate) fn fluid_tracks(
+    video: &str,
+    scene: &PerceivedFluidScene,
+    four_d: &FourDData,
+) -> Result<FluidTracks, InferError> {
+    let mut tracks: FluidTracks = scene
+        .fluids
+        .iter()
+        .map(|(name, _)| (name.clone(), Vec::new()))
+        .collect();
+    for (key, body) in &four_d.soft_bodies {
+        let Some(fluid) = tracks.get_mut(base_fluid_name(key)) else {
+            return Err(InferError::UnknownFluid {
+                video: video.to_string(),
+                key: key.clone(),
+            });
+        };
+        let frames = &body.particles[..body.particles.len().min(VIDEO_FRAMES)];
+        let count = frames.iter().map(Vec::len).max().unwrap_or(0);
+        let first = fluid.len();
+        fluid.extend((0..count).map(|_| ParticleTrack {
+            key: key.clone(),
+            positions: vec![None; frames.len()],
+        }));
+        for (frame, particles) in frames.iter().enumerate() {
+            for (particle, point) in particles.iter().enumerate() {
+                if !(point[0].is_finite() && point[1].is_finite()) {
+                    return Err(InferError::NotFinite {
+                        video: video.to_string(),
+                        key: key.clone(),
+                        frame,
+                        particle,
+                    });
+                }
+                if let Some(slot) = fluid
+                    .get_mut(first + particle)
+                    .and_then(|track| track.positions.get_mut(frame))
+                {
+                    *slot = Some([point[0], point[1]]);
+                }
+            }
+        }
+    }
+    if let Some((fluid, _)) = tracks.iter().find(|(_, particles)| particles.is_empty()) {
+        return Err(InferError::Untracked {
+            video: video.to_string(),
+            fluid: fluid.clone(),
+        });
+    }
+    Ok(tracks)
+}
+
+/// One fluid's particles in one container's cup at the last frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct Layer {
+    /// The base fluid.
+    pub(crate) fluid: String,
+    /// Its tracked particles inside the cup.
+    pub(crate) particles: usize,
+    /// Their median height, units.
+    pub(crate) median_y: f64,
+}
+
+/// How two fluids lie in one container, and what that says.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct LayerComparison {
+    /// The container.
+    pub(crate) container: String,
+    /// The first fluid's layer.
+    pub(crate) first: Layer,
+    /// The second fluid's layer.
+    pub(crate) second: Layer,
+    /// The first's median height minus the second's, units (negative: the first lies lower).
+    pub(crate) gap: f64,
+    /// The denser fluid by this container, when both layers have enough particles and their
+    /// heights differ by more than the margin.
+    pub(crate) heavier: Option<String>,
+}
+
+/// The inferred density order and its evidence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct DensityInference {
+    /// Every pair of fluids found together (at least one particle each) in a container's cup at
+    /// the last frame, per container.
+    pub(crate) comparisons: Vec<LayerComparison>,
+    /// `(heavier, lighter)` pairs decided by the containers, before closure. Each deciding
+    /// container votes for its lower fluid with the smaller of the two particle counts; the
+    /// pair goes the way of the total, and is left out on a tie.
+    pub(crate) relations: Vec<(String, String)>,
+    /// Pairs (scene order) whose deciding containers disagree: a dense fluid that arrives late
+    /// and sticky may not have sunk by the end of the video.
+    pub(crate) conflicts: Vec<(String, String)>,
+    /// The relations closed transitively.
+    #[serde(skip)]
+    pub(crate) ordering: DensityOrdering,
+}
+
+impl DensityInference {
+    /// How `first`'s density compares with `second`'s: `Unknown` when the video does not order
+    /// them ("can not answer"), `Contradictory` when its layering orders them both ways.
+    pub(crate) fn order(&self, first: &str, second: &str) -> DensityOrder {
+        self.ordering
+            .order(base_fluid_name(first), base_fluid_name(second))
+    }
+}
+
+/// The median of `values` (`NaN`-free), `None` when empty.
+fn median(values: &mut [f64]) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let middle = values.len() / 2;
+    match values.len() {
+        0 => None,
+        n if n % 2 == 1 => values.get(middle).copied(),
+        _ => Some(f64::midpoint(
+            *values.get(middle - 1)?,
+            *values.get(middle)?,
+        )),
+    }
+}
+
+/// Each fluid's particle heights in `container`'s cup at the last frame.
+fn container_layers(container: &ContainerRegion, tracks: &FluidTracks) -> Vec<Layer> {
+    let mut layers = Vec::new();
+    for (fluid, particles) in tracks {
+        let mut heights: Vec<f64> = particles
+            .iter()
+            .filter_map(|track| {
+                let now = (*track.positions.last()?)?;
+                container.cup.contains(now).then_some(now[1])
+            })
+            .collect();
+        if let Some(median_y) = median(&mut heights) {
+            layers.push(Layer {
+                fluid: fluid.clone(),
+                particles: heights.len(),
+                median_y,
+            });
+        }
+    }
+    layers
+}
+
+/// The density order the containers' layering shows.
+pub(crate) fn infer_density(scene: &PerceivedFluidScene, tracks: &FluidTracks) -> DensityInference {
+    let mut comparisons = Vec::new();
+    for container in &scene.containers {
+        let layers = container_layers(container, tracks);
+        for (index, first) in layers.iter().enumerate() {
+            for second in layers.iter().skip(index + 1) {
+                let gap = first.median_y - second.median_y;
+                let enough =
+                    first.particles > LAYER_MIN_PARTICLES && second.particles > LAYER_MIN_PARTICLES;
+                let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
+                    None
+                } else if gap < 0.0 {
+                    Some(first.fluid.clone())
+                } else {
+                    Some(second.fluid.clone())
+                };
+                comparisons.push(LayerComparison {
+                    container: container.name.clone(),
+                    first: first.clone(),
+                    second: second.clone(),
+                    gap,
+                    heavier,
+                });
+            }
+        }
+    }
+    // Votes per pair, keyed (first, second) in comparison order: positive for the first
+    // lying lower.
+    let mut votes: IndexMap<(String, String), (i64, bool, bool)> = IndexMap::new();
+    for comparison in &comparisons {
+        let Some(heavier) = &comparison.heavier else {
+            continue;
+        };
+        let weight = i64::try_from(comparison.first.particles.min(comparison.second.particles))
+            .unwrap_or(i64::MAX);
+        let first_lower = *heavier == comparison.first.fluid;
+        let entry = votes
+            .entry((
+                comparison.first.fluid.clone(),
+                comparison.second.fluid.clone(),
+            ))
+            .or_insert((0, false, false));
+        if first_lower {
+            entry.0 = entry.0.saturating_add(weight);
+            entry.1 = true;
+        } else {
+            entry.0 = entry.0.saturating_sub(weight);
+            entry.2 = true;
+        }
+    }
+    let mut relations = Vec::new();
+    let mut conflicts = Vec::new();
+    for ((first, second), (total, first_below, second_below)) in votes {
+        if first_below && second_below {
+            conflicts.push((first.clone(), second.clone()));
+        }
+        match total.cmp(&0) {
+            std::cmp::Ordering::Greater => relations.push((first, second)),
+            std::cmp::Ordering::Less => relations.push((second, first)),
+            std::cmp::Ordering::Equal => {}
+        }
+    }
+    DensityInference {
+        ordering: DensityOrdering::new(&relations),
+        comparisons,
+        relations,
+        conflicts,
+    }
+}
+
+/// One fluid's flow on the sticks and the class it gives.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct ViscosityEvidence {
+    /// The base fluid.
+    pub(crate) fluid: String,
+    /// Particle-frames within [`STICK_NEAR`] of a regular stick (speeds measured).
+    pub(crate) samples: usize,
+    /// Distinct tracked particles among them.
+    pub(crate) particles: usize,
+    /// Their median speed, units/s (the score: sticky below [`STICKY_SPEED`]).
+    pub(crate) median_speed: Option<f64>,
+    /// The class, `None` when the fluid was seen too little on sticks.
+    pub(crate) class: Option<Viscosity>,
+}
+
+/// Each fluid's viscosity class from its speed along the sticks.
+pub(crate) fn infer_viscosity(
+    scene: &PerceivedFluidScene,
+    tracks: &FluidTracks,
+) -> Vec<ViscosityEvidence> {
+    tracks
+        .iter()
+        .map(|(fluid, particles)| {
+            let mut speeds = Vec::new();
+            let mut seen = 0;
+            for track in particles {
+                let before = speeds.len();
+                for pair in track.positions.windows(2) {
+                    let [Some(from), Some(to)] = pair else {
+                        continue;
+                    };
+                    if scene.sticks.iter().any(|s| s.distance(*to) < STICK_NEAR) {
+                        speeds.push((to[0] - from[0]).hypot(to[1] - from[1]) / FRAME_SECONDS);
+                    }
+                }
+                if speeds.len() > before {
+                    seen += 1;
+                }
+            }
+            let samples = speeds.len();
+            let median_speed = median(&mut speeds);
+            let enough = samples >= VISCOSITY_MIN_SAMPLES && seen >= VISCOSITY_MIN_PARTICLES;
+            let class = median_speed.filter(|_| enough).map(|speed| {
+                if speed < STICKY_SPEED {
+                    Viscosity::Sticky
+                } else {
+                    Viscosity::NonSticky
+                }
+            });
+            ViscosityEvidence {
+                fluid: fluid.clone(),
+                samples,
+                particles: seen,
+                median_speed,
+                class,
+            }
+        })
+        .collect()
+}
+
+/// A fluid's place in the total density order a simulator uses.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct DensityRank {
+    /// The base fluid.
+    pub(crate) fluid: String,
+    /// 0 for the lightest.
+    pub(crate) rank: usize,
+    /// The release's pool value at that rank, kg/m³.
+    pub(crate) density: f64,
+    /// Whether its place among some neighbour was set by the tie-break rather than by the
+    /// inferred order.
+    pub(crate) tie_broken: bool,
+}
+
+/// How strongly the layering, thin or level layers included, puts `fluid` below `other`: over
+/// every container comparison of the two, the other's median height minus its own, weighted by
+/// the smaller particle count. Positive: `fluid` tends to lie below, so it is likely denser.
+fn leaning_below(density: &DensityInference, fluid: &str, other: &str) -> f64 {
+    density
+        .comparisons
+        .iter()
+        .map(|comparison| {
+            #[expect(clippy::cast_precision_loss, reason = "particle counts up to 200")]
+            let weight = comparison.first.particles.min(comparison.second.particles) as f64;
+            if comparison.first.fluid == fluid && comparison.second.fluid == other {
+                -weight * comparison.gap
+            } else if comparison.first.fluid == other && comparison.second.fluid == fluid {
+                weight * comparison.gap
+            } else {
+                0.0
+            }
+        })
+        .sum()
+}
+
+/// A total order of the fluids, lightest first, consistent with the inferred relations, each
+/// mapped to the release's pool value at its rank.
+///
+/// Tie-break, deterministic: repeatedly take, among the remaining fluids that are not known to
+/// be heavier than another remaining one (all remaining, should contradictory relations leave
+/// none), the one the weak layering evidence puts least below the other candidates (the sum
+/// of [`leaning_below`] over them), then the first in scene order.
+pub(crate) fn density_ranks(
+    video: &str,
+    scene: &PerceivedFluidScene,
+    density: &DensityInference,
+) -> Result<Vec<DensityRank>, InferError> {
+    let pool: &[f64] = match scene.fluids.len() {
+        3 => &DENSITIES_3_FLUIDS,
+        4 => &DENSITIES_4_FLUIDS,
+        count => {
+            return Err(InferError::FluidCount {
+                video: video.to_string(),
+                count,
+            });
+        }
+    };
+    let mut remaining: Vec<String> = scene.fluids.iter().map(|(name, _)| name.clone()).collect();
+    let mut ranks = Vec::new();
+    while !remaining.is_empty() {
+        let heavier_than_one = |fluid: &String| {
+            remaining
+                .iter()
+                .any(|other| density.order(fluid, other) == DensityOrder::Heavier)
+        };
+        let mut candidates: Vec<usize> = (0..remaining.len())
+            .filter(|&i| remaining.get(i).is_some_and(|f| !heavier_than_one(f)))
+            .collect();
+        if candidates.is_empty() {
+            candidates = (0..remaining.len()).collect();
+        }
+        let below = |index: usize| -> f64 {
+            let Some(fluid) = remaining.get(index) else {
+                return 0.0;
+            };
+            candidates
+                .iter()
+                .filter_map(|&other| remaining.get(other))
+                .filter(|other| *other != fluid)
+                .map(|other| leaning_below(density, fluid, other))
+                .sum()
+        };
+        let Some(&chosen) = candidates
+            .iter()
+            .min_by(|&&a, &&b| below(a).total_cmp(&below(b)).then(a.cmp(&b)))
+        else {
+            break;
+        };
+        let tie_broken = candidates.len() > 1;
+        let fluid = remaining.remove(chosen);
+        let rank = ranks.len();
+        ranks.push(DensityRank {
+            density: pool.get(rank).copied().unwrap_or(f64::NAN),
+            fluid,
+            rank,
+            tie_broken,
+        });
+    }
+    Ok(ranks)
+}
+
+/// Everything inferred of one video's fluids.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct FluidInference {
+    /// The density order and its evidence.
+    pub(crate) density: DensityInference,
+    /// Each fluid's viscosity class and evidence, in scene order.
+    pub(crate) viscosity: Vec<ViscosityEvidence>,
+    /// The total order for a simulator, lightest first.
+    pub(crate) ranks: Vec<DensityRank>,
+}
+
+/// Infers the fluid properties of `video` from its perceived scene and tracked particles.
+pub(crate) fn infer_fluid_properties(
+    video: &str,
+    scene: &PerceivedFluidScene,
+    four_d: &FourDData,
+) -> Result<FluidInference, InferError> {
+    let tracks = fluid_tracks(video, scene, four_d)?;
+    let density = infer_density(scene, &tracks);
+    let viscosity = infer_viscosity(scene, &tracks);
+    let ranks = density_ranks(video, scene, &density)?;
+    Ok(FluidInference {
+        density,
+        viscosity,
+        ranks,
+    })
+}
