@@ -159,7 +159,9 @@ impl FluidBackend {
     ) -> Result<Cow<'_, FluidTracking>, ApiError> {
         if self.dynamics == DynamicsBackend::Simulate {
             let runs = self.simulated_runs()?;
-            return runs.run(removed.map(|stick| stick.name.as_str())).map(Cow::Owned);
+            return runs
+                .run(removed.map(|stick| stick.name.as_str()))
+                .map(Cow::Owned);
         }
         let Some(stick) = removed else {
             return Ok(Cow::Borrowed(&self.annotation.tracking));

@@ -50,13 +50,13 @@ use infer::{FluidInference, PerceivedFluidScene, infer_fluid_properties};
 use runs::{ReceptorBoxes, SimulatedRuns};
 use simulate::{FluidGeometry, FluidMaterialGuess, RunSettings};
 
-use crate::dataset::{FourDData, Scenario};
 use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, VOCABULARY, Viscosity, emitter_name, later_fluid_name,
     parse_fluid_object_name,
 };
 use crate::dataset::vocabulary::Vocabulary;
+use crate::dataset::{FourDData, Scenario};
 use crate::scene_api::{
     ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
     SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
@@ -120,6 +120,8 @@ pub(crate) struct FluidBackend {
     inference: OnceLock<Result<FluidInference, ApiError>>,
     /// The simulated runs (`Simulate`), set up on first use, each run made when first asked.
     runs: OnceLock<Result<SimulatedRuns, ApiError>>,
+    /// Resolution of the simulated runs.
+    run_settings: RunSettings,
 }
 
 impl FluidBackend {
@@ -155,7 +157,15 @@ impl FluidBackend {
             video_dir,
             inference: OnceLock::new(),
             runs: OnceLock::new(),
+            run_settings: RunSettings::default(),
         }
+    }
+
+    /// The same backend simulating at `settings` (tests use a coarse grid).
+    #[cfg(test)]
+    pub(crate) fn with_run_settings(mut self, settings: RunSettings) -> FluidBackend {
+        self.run_settings = settings;
+        self
     }
 
     /// The fluids' properties as the video shows them (`--dynamics simulate`): density order
@@ -220,7 +230,7 @@ impl FluidBackend {
                     geometry,
                     receptors,
                     materials,
-                    RunSettings::default(),
+                    self.run_settings,
                 ))
             })
             .as_ref()

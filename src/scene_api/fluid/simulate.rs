@@ -30,7 +30,7 @@
 
 use indexmap::IndexMap;
 
-use crate::dataset::fluid::{DensityRelation, FluidAnnotation, FluidTracking};
+use crate::dataset::fluid::base_fluid_name;
 use crate::dataset::fluid::outcome::{
     Receptor, density_relations, emitter_stick_stat, is_regular_stick, receptor_fluid_stat,
     temperature_askable_sticks,
@@ -39,7 +39,7 @@ use crate::dataset::fluid::world::{
     COUNTERFACTUAL_UPDATES, EMITTER_OPEN_UPDATE, FACTUAL_UPDATES, NORMAL_TEMPERATURE,
     PARTICLES_PER_EMITTER, PREDICTIVE_EMITTER_OPEN_UPDATE, UPDATE_SECONDS,
 };
-use crate::dataset::fluid::base_fluid_name;
+use crate::dataset::fluid::{DensityRelation, FluidAnnotation, FluidTracking};
 use crate::physics::mpm::{
     Boundary, Collider, Emitter, FluidMaterial, GridSpec, Material, MpmError, ParticleState,
     Settings, Shape, Solver, Walls, WorkCounters,
@@ -159,13 +159,11 @@ impl FluidGeometry {
                         side: "Right",
                     })?;
                 let centre = |c: &PerceivedCollider| {
-                    [
-                        0.5 * (c.start[0] + c.end[0]),
-                        0.5 * (c.start[1] + c.end[1]),
-                    ]
+                    [0.5 * (c.start[0] + c.end[0]), 0.5 * (c.start[1] + c.end[1])]
                 };
                 let (left_centre, right_centre) = (centre(collider), centre(right));
-                let width = (right_centre[0] - left_centre[0]).abs() - collider.radius - right.radius;
+                let width =
+                    (right_centre[0] - left_centre[0]).abs() - collider.radius - right.radius;
                 emitters.push(PerceivedEmitter {
                     key: key.to_string(),
                     centre: [
@@ -346,10 +344,7 @@ fn build_solver(
     let grid = GridSpec {
         origin,
         spacing: dx,
-        nodes: [
-            cells(0) + 2 * WALL_NODES + 1,
-            cells(1) + 2 * WALL_NODES + 1,
-        ],
+        nodes: [cells(0) + 2 * WALL_NODES + 1, cells(1) + 2 * WALL_NODES + 1],
         walls: Walls {
             low: WALL_NODES,
             high: WALL_NODES,
@@ -357,12 +352,11 @@ fn build_solver(
     };
     let mut fluid_materials = Vec::new();
     for emitter in emitters {
-        let guess = material_of(materials, &emitter.key).ok_or_else(|| {
-            MpmError::InvalidMaterial {
+        let guess =
+            material_of(materials, &emitter.key).ok_or_else(|| MpmError::InvalidMaterial {
                 index: fluid_materials.len(),
                 reason: format!("no material was inferred for the {}", emitter.key),
-            }
-        })?;
+            })?;
         let viscosity = if guess.sticky {
             settings.sticky_viscosity
         } else {
@@ -427,7 +421,9 @@ fn emitter_budget(dx: f64) -> usize {
         clippy::cast_sign_loss,
         reason = "a positive count of particles, at least one"
     )]
-    let budget = (f64::from(PARTICLES_PER_EMITTER) * ratio * ratio).round().max(1.0) as usize;
+    let budget = (f64::from(PARTICLES_PER_EMITTER) * ratio * ratio)
+        .round()
+        .max(1.0) as usize;
     budget
 }
 
@@ -459,7 +455,8 @@ impl ContactMap {
             clippy::cast_sign_loss,
             reason = "a fixed tank over a fixed cell"
         )]
-        let count = |axis: usize| ((TANK_INNER[1][axis] - TANK_INNER[0][axis] + 1.0) / cell) as usize + 1;
+        let count =
+            |axis: usize| ((TANK_INNER[1][axis] - TANK_INNER[0][axis] + 1.0) / cell) as usize + 1;
         let (columns, rows) = (count(0), count(1));
         // At most 64 colliders get a bit (the release's scenes have about 30).
         let capsules: Vec<([f64; 2], [f64; 2], f64)> = colliders
@@ -510,7 +507,11 @@ impl ContactMap {
         if column >= self.columns || row >= self.rows {
             return 0;
         }
-        let mut candidates = self.near.get(column * self.rows + row).copied().unwrap_or(0);
+        let mut candidates = self
+            .near
+            .get(column * self.rows + row)
+            .copied()
+            .unwrap_or(0);
         let mut bits = 0;
         while candidates != 0 {
             let index = candidates.trailing_zeros() as usize;
@@ -583,8 +584,7 @@ fn label(
             .filter(|(index, _)| bits & (1 << index) != 0)
             .map(|(_, collider)| collider.name.as_str())
             .collect();
-        if let (Some(list), Some(positions)) = (paths.get_mut(*emitter), finals.get_mut(*emitter))
-        {
+        if let (Some(list), Some(positions)) = (paths.get_mut(*emitter), finals.get_mut(*emitter)) {
             list.push(path);
             positions.push(state.position);
         }
@@ -669,7 +669,11 @@ mod tests {
             let distance = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
             let matched = (distance(collider.start, start) + distance(collider.end, end))
                 .min(distance(collider.start, end) + distance(collider.end, start));
-            assert!(matched < 2e-3, "{}: {collider:?} against {start:?}–{end:?}", stick.name);
+            assert!(
+                matched < 2e-3,
+                "{}: {collider:?} against {start:?}–{end:?}",
+                stick.name
+            );
             assert!((collider.radius - 0.075).abs() < 1e-12);
         }
         // The Gray Stick by hand: centre (1.44133, −1.2), 125°, length 1.71076.
@@ -719,7 +723,10 @@ mod tests {
         assert_eq!(emitter_budget(0.05), 1500);
         assert_eq!(emitter_budget(0.1), 375);
         assert_eq!(emitter_budget(0.025), 6000);
-        assert_eq!(resample(375, 1500).take(5).collect::<Vec<_>>(), [0, 0, 0, 0, 1]);
+        assert_eq!(
+            resample(375, 1500).take(5).collect::<Vec<_>>(),
+            [0, 0, 0, 0, 1]
+        );
         assert_eq!(resample(6000, 1500).take(3).collect::<Vec<_>>(), [0, 4, 8]);
         assert_eq!(resample(375, 1500).last(), Some(374));
     }
@@ -775,7 +782,10 @@ mod tests {
             radius,
         };
         let mut colliders = vec![capsule("Red Stick", [-2.0, -0.5], [0.0, -1.2], 0.075)];
-        let cups = [("White Container", -2.7, -0.6), ("Green Container", 0.1, 2.7)];
+        let cups = [
+            ("White Container", -2.7, -0.6),
+            ("Green Container", 0.1, 2.7),
+        ];
         for (name, left, right) in cups {
             for (side, x) in [("Left", left), ("Right", right)] {
                 colliders.push(capsule(
@@ -822,14 +832,25 @@ mod tests {
             grid_spacing: 0.1,
             ..RunSettings::default()
         };
-        let factual =
-            simulate(&geometry, &receptors, &materials, RunKind::Factual, &settings).unwrap();
+        let factual = simulate(
+            &geometry,
+            &receptors,
+            &materials,
+            RunKind::Factual,
+            &settings,
+        )
+        .unwrap();
         let tracking = &factual.tracking;
         let (white, green) = (
             tracking.particles_in("White Container", "Blue Fluid"),
             tracking.particles_in("Green Container", "Blue Fluid"),
         );
-        assert!(tracking.contacts("Blue Fluid").unwrap().contains_key("Red Stick"));
+        assert!(
+            tracking
+                .contacts("Blue Fluid")
+                .unwrap()
+                .contains_key("Red Stick")
+        );
         assert!(green > 900 && green > 3 * white, "{tracking:?}");
         assert_eq!(factual.work.emitted, 375);
         let without = simulate(
@@ -845,7 +866,12 @@ mod tests {
             tracking.particles_in("White Container", "Blue Fluid"),
             tracking.particles_in("Green Container", "Blue Fluid"),
         );
-        assert!(!tracking.contacts("Blue Fluid").unwrap().contains_key("Red Stick"));
+        assert!(
+            !tracking
+                .contacts("Blue Fluid")
+                .unwrap()
+                .contains_key("Red Stick")
+        );
         assert!(white > 900 && white > 3 * green, "{tracking:?}");
     }
 }

@@ -18,7 +18,7 @@ use serde_json::Value;
 
 use super::*;
 use crate::dataset::{Scenario, VideoFolder, VideoId};
-use crate::scene_api::{Scene, SceneParts};
+use crate::scene_api::{EventAction, Scene, SceneParts};
 
 fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fluid_slides/0")
@@ -501,7 +501,8 @@ fn a_fluid_a_run_does_not_list_has_no_passing_answer() {
 }
 
 #[test]
-fn simulate_and_maskrcnn_are_not_implemented_for_fluid_yet() {
+fn simulate_needs_the_tracked_particles_and_maskrcnn_is_not_implemented_for_fluid_yet() {
+    // The hand-written video has no outputs4D.json: nothing to infer the properties from.
     let scene = open(
         fixture_dir(),
         PerceptionBackend::Annotation,
@@ -509,20 +510,14 @@ fn simulate_and_maskrcnn_are_not_implemented_for_fluid_yet() {
     );
     let pink = one(&scene, "pink fluid");
     let yellow = one(&scene, "yellow fluid");
-    let expected = "fluid scenes cannot be simulated yet: `--dynamics simulate` is not implemented for fluid; run with `--dynamics annotation`";
-    let errors = [
-        scene.query_pair("density", pink, yellow).unwrap_err(),
-        scene
-            .register_event(&[], "simulate", "", vec![])
-            .unwrap_err(),
-        scene
-            .register_event(&[], "remove", "brown stick", vec![])
-            .unwrap_err(),
-    ];
-    for error in errors {
-        assert_eq!(error.kind(), "unavailable");
-        assert_eq!(error.to_string(), expected);
-    }
+    let error = scene.query_pair("density", pink, yellow).unwrap_err();
+    assert_eq!(error.kind(), "unavailable");
+    assert!(
+        error
+            .to_string()
+            .starts_with("fluid properties are inferred from the tracked particles, and this video has no outputs4D.json"),
+        "{error}"
+    );
     // Misuse is still reported as misuse.
     let error = scene
         .register_event(&[], "remove", "purple stick", vec![])
@@ -541,6 +536,88 @@ fn simulate_and_maskrcnn_are_not_implemented_for_fluid_yet() {
         error.to_string(),
         "fluid scenes have no detector yet: `--perception maskrcnn` is not implemented for fluid; run with `--perception annotation`"
     );
+}
+
+/// The generated demo video under `--dynamics simulate` on a coarse grid: property questions
+/// simulate nothing; each run is simulated once, when first asked; the robust facts of the
+/// video's truth hold (the pink fluid runs down the red stick into the pink container; without
+/// the red stick it lands on the gray stick instead; the light blue fluid runs down the pink
+/// stick).
+#[test]
+fn simulate_answers_the_demo_video_and_runs_each_simulation_once_when_asked() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/fluid_slides/0");
+    let annotation = FluidAnnotation::load(&dir.join("outputs.json")).unwrap();
+    let coarse = simulate::RunSettings {
+        grid_spacing: 0.1,
+        ..simulate::RunSettings::default()
+    };
+    let backend =
+        FluidBackend::new(annotation, DynamicsBackend::Simulate, dir).with_run_settings(coarse);
+    let id = |name: &str| {
+        backend
+            .objects()
+            .iter()
+            .find(|object| object.name == name)
+            .unwrap()
+            .id
+    };
+    let (pink, yellow, light_blue) = (id("Pink Fluid"), id("Yellow Fluid"), id("Light Blue Fluid"));
+    // Densities: 1600 (pink) < 3000 (yellow) < 4400 (light blue); what the layering decides
+    // agrees, and asking simulates nothing.
+    for (lighter, heavier) in [(pink, yellow), (pink, light_blue), (yellow, light_blue)] {
+        let values = backend
+            .query(Property::Density, &[lighter, heavier], "query_pair")
+            .unwrap();
+        if let [Some(a), Some(b)] = values.as_slice() {
+            assert!(a < b, "{values:?}");
+        }
+    }
+    assert_eq!(backend.simulation_work(), (0, 0));
+    let factual = SceneEvent {
+        action: EventAction::Simulate,
+        object: None,
+        attribute: String::new(),
+        attribute_objects: Vec::new(),
+    };
+    let objects = |name: &str| Target::Objects(vec![id(name)]);
+    let happens = |event: &SceneEvent, fluid, action: &str, target: &str| {
+        backend
+            .happen(event, fluid, action, &objects(target))
+            .unwrap()
+    };
+    assert!(happens(&factual, pink, "passing", "Red Stick"));
+    assert!(happens(&factual, pink, "entering", "Pink Container"));
+    assert!(happens(&factual, light_blue, "passing", "Pink Stick"));
+    let (runs, particle_substeps) = backend.simulation_work();
+    assert_eq!(runs, 1, "one factual run for three questions");
+    assert!(particle_substeps > 0);
+    let without = |stick: &str| SceneEvent {
+        action: EventAction::Remove,
+        object: Some(id(stick)),
+        attribute: "stick".to_string(),
+        attribute_objects: Vec::new(),
+    };
+    assert!(!happens(
+        &without("Red Stick"),
+        pink,
+        "passing",
+        "Red Stick"
+    ));
+    assert!(happens(
+        &without("Red Stick"),
+        pink,
+        "passing",
+        "Gray Stick"
+    ));
+    assert_eq!(backend.simulation_work().0, 2);
+    // A stick the release did not re-simulate without can be removed too.
+    assert!(!happens(
+        &without("Purple Stick"),
+        pink,
+        "passing",
+        "Purple Stick"
+    ));
+    assert_eq!(backend.simulation_work().0, 3);
 }
 
 #[test]
