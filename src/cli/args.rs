@@ -16,6 +16,8 @@ use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 use crate::synth::appearance::Appearance;
 use crate::synth::video::FrameOutput;
 
+use super::bench_args::BenchCommand;
+
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
 /// runs in a sandbox against the scene API, and answers are scored per option and per question.
 ///
@@ -512,103 +514,6 @@ pub enum CacheCommand {
         /// Exported JSONL files.
         #[arg(value_name = "FILE", required = true)]
         files: Vec<PathBuf>,
-    },
-}
-
-/// `bench` subcommands.
-#[derive(Debug, Subcommand)]
-pub enum BenchCommand {
-    /// Sandbox cost: interpreter start-up, per-program time, programs/s through the worker pool,
-    /// next to CPython running the same programs.
-    Sandbox {
-        /// Units pushed through the pool.
-        #[arg(long, value_name = "N", default_value_t = 2000)]
-        units: usize,
-        /// Worker processes (default: the number of cores).
-        #[arg(long, value_name = "N")]
-        jobs: Option<usize>,
-        /// The video whose programs are timed (default: the repository's demo video).
-        #[arg(long, value_name = "DIR")]
-        video: Option<PathBuf>,
-    },
-    /// Simulator accuracy: error against run time over a sweep of time steps (closed forms or a
-    /// fine reference), as JSON, with an optional SVG plot.
-    Physics {
-        /// The scenario whose simulator is measured (default: the one scenario with a
-        /// simulator benchmark).
-        #[arg(long, value_name = "SCENARIO")]
-        scenario: Option<Scenario>,
-        /// Also write the plot of error against run time here.
-        #[arg(long, value_name = "FILE")]
-        svg: Option<PathBuf>,
-        /// Time steps to sweep, s (comma-separated; default 0.02 down to 0.0001).
-        #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
-        steps: Option<Vec<f64>>,
-    },
-    /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
-    /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle
-    /// substeps per second. `benches/mpm88.sh` runs Taichi beside it.
-    Mpm88 {
-        /// Initial positions, an `(N, 2)` float32 or float64 `.npy` file.
-        #[arg(long, value_name = "FILE.npy")]
-        init: PathBuf,
-        /// Substeps to time.
-        #[arg(long, value_name = "N", default_value_t = 2000)]
-        steps: u64,
-        /// Worker threads.
-        #[arg(long, value_name = "N", default_value_t = 1)]
-        threads: usize,
-    },
-    /// Properties inferred from tracked motion (what `--dynamics simulate` answers property
-    /// questions with) against the videos' values, as JSON: rope mass relations pair by pair;
-    /// fluid density order, viscosity classes and density ranks.
-    Inference {
-        /// Data root holding `<scenario folder>/<video_id>/`.
-        #[arg(long, value_name = "DIR")]
-        data: PathBuf,
-        /// Gaussian noise added to the tracked heights, standard deviations in units
-        /// (comma-separated; one sweep each).
-        #[arg(long, value_name = "SD,...", value_delimiter = ',', default_values_t = [0.0])]
-        noise: Vec<f64>,
-    },
-    /// Perception: the Mask R-CNN's masks, classes, colours and tracks against the segmentation
-    /// truth (AP@0.5, attribute accuracy, ID switches), and the time of decoding, inference and
-    /// postprocessing per frame, as JSON.
-    Perception {
-        /// Data root holding `<scenario folder>/<video_id>/`.
-        #[arg(long, value_name = "DIR")]
-        data: PathBuf,
-        #[command(flatten)]
-        frames: FrameSelectionArgs,
-        /// The scenario whose videos are scored (default: the one scenario with perception the
-        /// data root holds).
-        #[arg(long, value_name = "SCENARIO")]
-        scenario: Option<Scenario>,
-        /// The ONNX model (default: the scenario's committed model).
-        #[arg(long, value_name = "FILE")]
-        model: Option<PathBuf>,
-        /// The colour model (default: the scenario's committed model).
-        #[arg(long, value_name = "FILE")]
-        colors: Option<PathBuf>,
-        /// ONNX Runtime threads.
-        #[arg(long, value_name = "N", default_value_t = 1)]
-        threads: usize,
-    },
-    /// LLM client: throughput against concurrency, and whether --rpm holds, against a loopback
-    /// mock server with a fixed latency.
-    Llm {
-        /// The mock server's latency per request, ms.
-        #[arg(long, value_name = "MS", default_value_t = 50)]
-        latency_ms: u64,
-        /// Concurrency levels (comma-separated).
-        #[arg(long, value_name = "N,...", value_delimiter = ',', default_values_t = [1, 8, 32, 128])]
-        jobs: Vec<usize>,
-        /// Requests-per-minute limits to check (comma-separated).
-        #[arg(long, value_name = "N,...", value_delimiter = ',', default_values_t = [600, 3000])]
-        rpm: Vec<u32>,
-        /// Seconds each rate limit is measured over.
-        #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
-        rpm_seconds: f64,
     },
 }
 

@@ -5,6 +5,7 @@
 //! error, 2 usage or internal error.
 
 mod args;
+mod bench_args;
 
 pub use args::{Cli, Command};
 
