@@ -3,7 +3,7 @@
 //!
 //! **Binning** is a stable counting sort by block. Particles move a small fraction of a cell per
 //! substep, so the order from the last substep is usually almost right; the sort only computes
-//! the permutation ([`bin`]) and the scatter applies it while it reads the particles anyway, so
+//! the permutation ([`Bins::bin`]) and the scatter applies it while it reads the particles anyway, so
 //! no separate pass copies the particle state.
 //!
 //! **Merge and update** ([`merge_and_update`]): each grid node is the sum, in block order, of
@@ -31,9 +31,9 @@ pub(super) fn blocks_along(grid: &GridSpec) -> [usize; 2] {
 /// The block holding base node `base`, clamped into the block range so a corrupt position
 /// cannot index outside the tables.
 #[inline]
-pub(super) fn block_key(base: [usize; 2], along: [usize; 2]) -> u32 {
-    let bx = (base[0] / BLOCK).min(along[0] - 1);
-    let by = (base[1] / BLOCK).min(along[1] - 1);
+pub(super) fn block_key(base: [u32; 2], along: [usize; 2]) -> u32 {
+    let bx = (base[0] as usize / BLOCK).min(along[0] - 1);
+    let by = (base[1] as usize / BLOCK).min(along[1] - 1);
     index_u32(bx * along[1] + by)
 }
 
@@ -254,10 +254,10 @@ fn node_velocity(node: [f64; 3], index: [usize; 2], update: &GridUpdate<'_>) -> 
     {
         velocity[1] = 0.0;
     }
-    if update.colliders.has_colliders() {
-        if let Some((normal, boundary)) = update.colliders.constraint(i * nodes[1] + j) {
-            velocity = project(velocity, normal, boundary);
-        }
+    if update.colliders.has_colliders()
+        && let Some((normal, boundary)) = update.colliders.constraint(i * nodes[1] + j)
+    {
+        velocity = project(velocity, normal, boundary);
     }
     [velocity[0], velocity[1], node[2]]
 }

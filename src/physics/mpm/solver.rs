@@ -99,6 +99,10 @@ pub struct Solver {
     tiles: Vec<[f64; 3]>,
     /// Each particle's block, from its position at the end of the last substep.
     block_of: Vec<u32>,
+    /// Each particle's stencil base node, from the same position (see
+    /// [`StepConstants::base_cell`]); kept in the particles' order like `state`.
+    base_of: Vec<[u32; 2]>,
+    spare_base: Vec<[u32; 2]>,
     bins: Bins,
     time: f64,
     next_id: u32,
@@ -159,6 +163,8 @@ impl Solver {
             nodes: vec![[0.0; 3]; node_count],
             tiles: Vec::new(),
             block_of: Vec::new(),
+            base_of: Vec::new(),
+            spare_base: Vec::new(),
             bins: Bins::default(),
             time: 0.0,
             next_id: 0,
@@ -211,9 +217,10 @@ impl Solver {
             self.counters.clamped += 1;
         }
         self.speed_seen(&state);
-        let base = self.step_constants(0.0).base_node(state.position);
+        let base = self.step_constants(0.0).base_cell(state.position);
         self.block_of
             .push(block_key(base, blocks_along(&self.grid)));
+        self.base_of.push(base);
         self.state.push(state);
         self.constants.push(ParticleConstants {
             mass,
@@ -405,18 +412,21 @@ impl Solver {
         if self.bins.sorted {
             let state = &self.state;
             let constants = &self.constants;
+            let base_of = &self.base_of;
             tiles.for_each(|(tile, &(block, start, end))| {
                 tile.fill([0.0; 3]);
                 let corner = block_corner(block, along);
                 let range = start as usize..end as usize;
-                let (Some(particles), Some(constants)) =
-                    (state.get(range.clone()), constants.get(range))
-                else {
+                let (Some(particles), Some(constants), Some(bases)) = (
+                    state.get(range.clone()),
+                    constants.get(range.clone()),
+                    base_of.get(range),
+                ) else {
                     return;
                 };
-                for (particle, constant) in particles.iter().zip(constants) {
+                for ((particle, constant), &base) in particles.iter().zip(constants).zip(bases) {
                     if let Some(material) = materials.get(constant.material as usize) {
-                        scatter_particle(tile, corner, particle, constant, material, &step);
+                        scatter_particle(tile, corner, particle, base, constant, material, &step);
                     }
                 }
             });
@@ -426,48 +436,57 @@ impl Solver {
         self.spare_state.resize(count, ParticleState::default());
         self.spare_constants
             .resize(count, ParticleConstants::default());
+        self.spare_base.resize(count, [0; 2]);
         // Each block's slots of the spare buffers, cut in block order.
         let mut slots = Vec::with_capacity(blocks.len());
         let mut rest_state = self.spare_state.as_mut_slice();
         let mut rest_constants = self.spare_constants.as_mut_slice();
+        let mut rest_base = self.spare_base.as_mut_slice();
         for &(_, start, end) in blocks {
             let length = (end - start) as usize;
             let (state_here, state_after) = rest_state.split_at_mut(length.min(rest_state.len()));
             let (constants_here, constants_after) =
                 rest_constants.split_at_mut(length.min(rest_constants.len()));
-            slots.push((state_here, constants_here, start as usize));
+            let (base_here, base_after) = rest_base.split_at_mut(length.min(rest_base.len()));
+            slots.push((state_here, constants_here, base_here, start as usize));
             rest_state = state_after;
             rest_constants = constants_after;
+            rest_base = base_after;
         }
         let state = &self.state;
         let constants = &self.constants;
+        let base_of = &self.base_of;
         let order = &self.bins.order;
         tiles.zip(slots.into_par_iter()).for_each(
-            |((tile, &(block, _, _)), (states_out, constants_out, start))| {
+            |((tile, &(block, _, _)), (states_out, constants_out, bases_out, start))| {
                 tile.fill([0.0; 3]);
                 let corner = block_corner(block, along);
                 let sources = order.get(start..start + states_out.len()).unwrap_or(&[]);
-                for ((state_out, constant_out), &source) in states_out
+                let outputs = states_out
                     .iter_mut()
                     .zip(constants_out.iter_mut())
-                    .zip(sources)
-                {
+                    .zip(bases_out);
+                for (((state_out, constant_out), base_out), &source) in outputs.zip(sources) {
                     let source = source as usize;
-                    let (Some(particle), Some(constant)) =
-                        (state.get(source), constants.get(source))
-                    else {
+                    let (Some(particle), Some(constant), Some(&base)) = (
+                        state.get(source),
+                        constants.get(source),
+                        base_of.get(source),
+                    ) else {
                         continue;
                     };
                     *state_out = *particle;
                     *constant_out = *constant;
+                    *base_out = base;
                     if let Some(material) = materials.get(constant.material as usize) {
-                        scatter_particle(tile, corner, particle, constant, material, &step);
+                        scatter_particle(tile, corner, particle, base, constant, material, &step);
                     }
                 }
             },
         );
         std::mem::swap(&mut self.state, &mut self.spare_state);
         std::mem::swap(&mut self.constants, &mut self.spare_constants);
+        std::mem::swap(&mut self.base_of, &mut self.spare_base);
     }
 
     /// Tiles into grid velocities (see [`merge_and_update`]).
@@ -493,15 +512,18 @@ impl Solver {
         let colliders = &self.colliders;
         let any_collider = colliders.has_colliders();
         self.block_of.resize(self.state.len(), 0);
+        self.base_of.resize(self.state.len(), [0; 2]);
         let outcome = self
             .state
             .par_chunks_mut(GATHER_CHUNK)
             .zip(self.block_of.par_chunks_mut(GATHER_CHUNK))
+            .zip(self.base_of.par_chunks_mut(GATHER_CHUNK))
             .enumerate()
-            .map(|(chunk, (particles, blocks))| {
+            .map(|(chunk, ((particles, blocks), bases))| {
                 let mut outcome = GatherOutcome::default();
-                for (offset, (particle, block)) in particles.iter_mut().zip(blocks).enumerate() {
-                    gather_particle(particle, nodes, columns, &step);
+                let each = particles.iter_mut().zip(blocks).zip(bases);
+                for (offset, ((particle, block), base)) in each.enumerate() {
+                    gather_particle(particle, *base, nodes, columns, &step);
                     if any_collider {
                         let nearest = step.nearest_node(particle.position, columns);
                         outcome.pushed_out += u64::from(colliders.push_out(particle, nearest));
@@ -521,7 +543,8 @@ impl Solver {
                     outcome.max_affine_squared = outcome
                         .max_affine_squared
                         .max(affine_norm_squared(particle));
-                    *block = block_key(step.base_node(particle.position), along);
+                    *base = step.base_cell(particle.position);
+                    *block = block_key(*base, along);
                 }
                 outcome
             })

@@ -33,35 +33,30 @@ pub(super) struct StepConstants {
 }
 
 impl StepConstants {
-    /// The particle's stencil: its base node (low corner) and its weights along each axis, and
-    /// its fractional offset from the base in cells.
+    /// The particle's stencil from its base node (low corner, from [`Self::base_cell`]): the
+    /// base as indices, its weights along each axis, and its fractional offset in cells.
     #[inline]
-    fn stencil(&self, position: [f64; 2]) -> ([usize; 2], [[f64; 3]; 2], [f64; 2]) {
+    fn stencil(&self, position: [f64; 2], base: [u32; 2]) -> ([usize; 2], [[f64; 3]; 2], [f64; 2]) {
         let scaled = [
             (position[0] - self.origin[0]) * self.inverse,
             (position[1] - self.origin[1]) * self.inverse,
         ];
-        let base = [cell_floor(scaled[0] - 0.5), cell_floor(scaled[1] - 0.5)];
         let fx = [
             scaled[0] - f64::from(base[0]),
             scaled[1] - f64::from(base[1]),
         ];
-        let base = [
-            base[0].unsigned_abs() as usize,
-            base[1].unsigned_abs() as usize,
-        ];
+        let base = [base[0] as usize, base[1] as usize];
         (base, [weights(fx[0]), weights(fx[1])], fx)
     }
 
-    /// The node at the low corner of a particle's 3 × 3 stencil.
+    /// The node at the low corner of a particle's 3 × 3 stencil, `⌊x/dx − 1/2⌋` per axis. The
+    /// gather computes it once for the new position; the next scatter and gather reuse it, which
+    /// saves the float to integer and back conversions at the head of their dependency chains.
     #[inline]
-    pub(super) fn base_node(&self, position: [f64; 2]) -> [usize; 2] {
+    pub(super) fn base_cell(&self, position: [f64; 2]) -> [u32; 2] {
         let x = (position[0] - self.origin[0]) * self.inverse - 0.5;
         let y = (position[1] - self.origin[1]) * self.inverse - 0.5;
-        [
-            cell_floor(x).unsigned_abs() as usize,
-            cell_floor(y).unsigned_abs() as usize,
-        ]
+        [cell_floor(x), cell_floor(y)]
     }
 
     /// Index of the grid node nearest to `position` (clamped positions keep it in the grid).
@@ -89,15 +84,15 @@ pub(super) fn grid_index(cells: f64) -> usize {
 
 /// `⌊cells⌋` for the stencil, at least 0: truncation equals the floor for the non-negative
 /// coordinates of clamped positions, and negatives (never reached) saturate to 0 as `floor` then
-/// `as usize` did. `i32` keeps both conversions single instructions (`usize` needs a fix-up
-/// for the top bit each way); grids have at most 2¹⁵ nodes a side.
+/// `as usize` did. `i32` keeps the conversion one instruction (`usize` needs a fix-up for the
+/// top bit); grids have at most 2¹⁵ nodes a side.
 #[inline]
 #[expect(
     clippy::cast_possible_truncation,
     reason = "clamped positions give small non-negative cell coordinates; as saturates"
 )]
-fn cell_floor(cells: f64) -> i32 {
-    (cells as i32).max(0)
+fn cell_floor(cells: f64) -> u32 {
+    (cells as i32).max(0).unsigned_abs()
 }
 
 /// Quadratic B-spline weights along one axis for fractional offset `fx ∈ [0.5, 1.5)`.
@@ -111,18 +106,18 @@ fn weights(fx: f64) -> [f64; 3] {
 }
 
 /// Adds one particle's mass, momentum and stress to its block's tile, whose low corner is node
-/// `corner` (the particle's base node lies in the block). `stress_scale` is `−4·dt/dx²` (the
-/// particle's volume completes it).
+/// `corner` (the particle's base node `base` lies in the block).
 #[inline]
 pub(super) fn scatter_particle(
     tile: &mut [[f64; 3]],
     corner: [usize; 2],
     particle: &ParticleState,
+    base: [u32; 2],
     constant: &ParticleConstants,
     material: &Material,
     step: &StepConstants,
 ) {
-    let (base, w, fx) = step.stencil(particle.position);
+    let (base, w, fx) = step.stencil(particle.position, base);
     let dx = step.dx;
     let stress = material.kirchhoff_stress(particle.volume_ratio, &particle.affine);
     let scale = -step.dt * 4.0 * constant.volume * step.inverse * step.inverse;
@@ -166,11 +161,12 @@ pub(super) fn scatter_particle(
 #[inline]
 pub(super) fn gather_particle(
     particle: &mut ParticleState,
+    base: [u32; 2],
     nodes: &[[f64; 3]],
     columns: usize,
     step: &StepConstants,
 ) {
-    let (base, w, fx) = step.stencil(particle.position);
+    let (base, w, fx) = step.stencil(particle.position, base);
     let dx = step.dx;
     let dpos_y = [(0.0 - fx[1]) * dx, (1.0 - fx[1]) * dx, (2.0 - fx[1]) * dx];
     // Lanes (x, y) of the node velocity: `velocity`, and the APIC sums `Σ w·v·dpos_x`
