@@ -7,11 +7,13 @@
 # 2,000 substeps (relative difference of mean position, kinetic energy and mean J).
 #
 # Usage: benches/mpm88.sh [STEPS_8192 [STEPS_32768]]   (defaults 2000 and 1000)
+# Environment: TAICHI_VENV, a virtualenv that already has taichi 1.7.4 and numpy, replaces
+# target/venv-taichi (the default, created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 steps_small="${1:-2000}"
 steps_large="${2:-1000}"
-venv=target/venv-taichi
+venv="${TAICHI_VENV:-target/venv-taichi}"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
     "$venv/bin/pip" install --quiet "taichi==1.7.4" numpy

@@ -195,6 +195,12 @@ impl ColliderGrid {
         rasterised
     }
 
+    /// Whether there is any collider (without, the per-node and per-particle tests are skipped).
+    #[inline]
+    pub(super) fn has_colliders(&self) -> bool {
+        !self.colliders.is_empty()
+    }
+
     /// The (outward normal, boundary) constraining node `index`, if it lies inside a collider.
     #[inline]
     pub(super) fn constraint(&self, index: usize) -> Option<([f64; 2], Boundary)> {

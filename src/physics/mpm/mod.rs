@@ -26,11 +26,13 @@
 
 mod collider;
 mod emitter;
+mod grid;
 mod material;
 pub mod mpm88;
 mod solver;
 #[cfg(test)]
 mod tests;
+mod transfer;
 
 pub use collider::{Boundary, Collider, Shape};
 pub use emitter::Emitter;

@@ -3,21 +3,25 @@
 //!
 //! Layout: particle state that changes every substep ([`ParticleState`]: position, velocity,
 //! APIC matrix, volume ratio) is one array of structs, read whole by both transfers; what does not
-//! change (mass, volume, material, id) is a second array in the same order. Both are reordered by
-//! grid block each substep. The grid is one array of `[momentum x, momentum y, mass]`, which the
+//! change (mass, volume, material, id) is a second array in the same order. Both are kept in block
+//! order: when particles change block, the scatter writes both, reordered, into spare arrays that
+//! then take their place (one copy, fused with a read the scatter does anyway). The grid is one array of `[momentum x, momentum y, mass]`, which the
 //! grid update turns into `[velocity x, velocity y, mass]` in place.
 
 use rayon::prelude::*;
 
-use super::collider::{Collider, ColliderGrid, project};
+use super::collider::{Collider, ColliderGrid};
 use super::emitter::Emitter;
+use super::grid::{
+    Bins, GridUpdate, block_corner, block_key, blocks_along, index_u32, merge_and_update,
+};
 use super::material::{Material, VOLUME_RATIO_RANGE};
+use super::transfer::{
+    ParticleConstants, StepConstants, TILE, affine_norm_squared, clamp_position, gather_particle,
+    is_finite, scatter_particle, speed_squared,
+};
 use super::{GridSpec, MpmError};
 
-/// Nodes along each side of a block: the unit of binning and of parallel scattering.
-const BLOCK: usize = 8;
-/// A block's private tile: its nodes plus the two the quadratic stencil reaches beyond.
-const TILE: usize = BLOCK + 2;
 /// Particles per parallel gather task.
 const GATHER_CHUNK: usize = 1024;
 
@@ -32,15 +36,6 @@ pub struct ParticleState {
     pub affine: [f64; 4],
     /// Volume ratio `J` (current volume over initial).
     pub volume_ratio: f64,
-}
-
-/// What does not move: a particle's constants.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ParticleConstants {
-    mass: f64,
-    volume: f64,
-    material: u32,
-    id: u32,
 }
 
 /// Solver settings.
@@ -95,11 +90,20 @@ pub struct Solver {
     colliders: ColliderGrid,
     state: Vec<ParticleState>,
     constants: Vec<ParticleConstants>,
+    /// Where the scatter writes the particles in their new order when binning reorders them;
+    /// swapped with `state` and `constants` after it.
+    spare_state: Vec<ParticleState>,
+    spare_constants: Vec<ParticleConstants>,
     nodes: Vec<[f64; 3]>,
+    /// One tile per non-empty block, in block order.
     tiles: Vec<[f64; 3]>,
+    /// Each particle's block, from its position at the end of the last substep.
     block_of: Vec<u32>,
-    /// Non-empty blocks after binning: (block index, first particle, end).
-    blocks: Vec<(u32, u32, u32)>,
+    /// Each particle's stencil base node, from the same position (see
+    /// [`StepConstants::base_cell`]); kept in the particles' order like `state`.
+    base_of: Vec<[u32; 2]>,
+    spare_base: Vec<[u32; 2]>,
+    bins: Bins,
     time: f64,
     next_id: u32,
     /// Largest particle speed and APIC norm after the last gather (for the stable step).
@@ -154,10 +158,14 @@ impl Solver {
             colliders,
             state: Vec::new(),
             constants: Vec::new(),
+            spare_state: Vec::new(),
+            spare_constants: Vec::new(),
             nodes: vec![[0.0; 3]; node_count],
             tiles: Vec::new(),
             block_of: Vec::new(),
-            blocks: Vec::new(),
+            base_of: Vec::new(),
+            spare_base: Vec::new(),
+            bins: Bins::default(),
             time: 0.0,
             next_id: 0,
             max_speed: 0.0,
@@ -209,6 +217,10 @@ impl Solver {
             self.counters.clamped += 1;
         }
         self.speed_seen(&state);
+        let base = self.step_constants(0.0).base_cell(state.position);
+        self.block_of
+            .push(block_key(base, blocks_along(&self.grid)));
+        self.base_of.push(base);
         self.state.push(state);
         self.constants.push(ParticleConstants {
             mass,
@@ -377,169 +389,145 @@ impl Solver {
         Ok(())
     }
 
-    fn blocks_along(&self) -> [usize; 2] {
-        [
-            self.grid.nodes[0].div_ceil(BLOCK),
-            self.grid.nodes[1].div_ceil(BLOCK),
-        ]
+    /// Bins the particles by block (their keys were computed by the last gather or on adding).
+    fn bin_by_block(&mut self) {
+        let along = blocks_along(&self.grid);
+        self.bins.bin(&self.block_of, along[0] * along[1]);
     }
 
-    /// Reorders particles by block (stable), and lists the non-empty blocks.
-    fn bin_by_block(&mut self) {
-        let inverse = 1.0 / self.grid.spacing;
-        let origin = self.grid.origin;
-        let along = self.blocks_along();
-        self.block_of.resize(self.state.len(), 0);
-        self.block_of
-            .par_iter_mut()
-            .zip(self.state.par_iter())
-            .for_each(|(block, state)| {
-                let base = base_node(state.position, origin, inverse);
-                *block = index_u32((base[0] / BLOCK) * along[1] + base[1] / BLOCK);
-            });
-        if !self.block_of.is_sorted() {
-            let mut starts = vec![0u32; along[0] * along[1] + 1];
-            for &block in &self.block_of {
-                starts[block as usize + 1] += 1;
-            }
-            for index in 1..starts.len() {
-                starts[index] += starts[index - 1];
-            }
-            let mut order = vec![0u32; self.state.len()];
-            for (index, &block) in self.block_of.iter().enumerate() {
-                let slot = &mut starts[block as usize];
-                order[*slot as usize] = index_u32(index);
-                *slot += 1;
-            }
+    /// Particle to grid: each block into its tile in parallel. When the binning reordered the
+    /// particles, each block reads its particles through the permutation and writes them, in
+    /// the new order, into the spare buffers, which then become the particle arrays.
+    fn scatter(&mut self, dt: f64) {
+        let along = blocks_along(&self.grid);
+        let step = self.step_constants(dt);
+        self.tiles
+            .resize(self.bins.blocks.len() * TILE * TILE, [0.0; 3]);
+        let materials = &self.materials;
+        let blocks = &self.bins.blocks;
+        let tiles = self
+            .tiles
+            .par_chunks_mut(TILE * TILE)
+            .zip(blocks.par_iter());
+        if self.bins.sorted {
             let state = &self.state;
             let constants = &self.constants;
-            let block_of = &self.block_of;
-            let reordered: Vec<(ParticleState, ParticleConstants, u32)> = order
-                .par_iter()
-                .map(|&index| {
-                    let index = index as usize;
-                    (state[index], constants[index], block_of[index])
-                })
-                .collect();
-            for (slot, (state, constants, block)) in reordered.into_iter().enumerate() {
-                self.state[slot] = state;
-                self.constants[slot] = constants;
-                self.block_of[slot] = block;
-            }
-        }
-        self.blocks.clear();
-        let mut start = 0usize;
-        for index in 1..=self.block_of.len() {
-            if index == self.block_of.len() || self.block_of[index] != self.block_of[start] {
-                self.blocks
-                    .push((self.block_of[start], index_u32(start), index_u32(index)));
-                start = index;
-            }
-        }
-    }
-
-    /// Particle to grid: each block into its tile in parallel, then the tiles into the grid in
-    /// block order.
-    fn scatter(&mut self, dt: f64) {
-        let dx = self.grid.spacing;
-        let inverse = 1.0 / dx;
-        let origin = self.grid.origin;
-        let along = self.blocks_along();
-        let nodes = self.grid.nodes;
-        self.tiles.clear();
-        self.tiles.resize(self.blocks.len() * TILE * TILE, [0.0; 3]);
-        let state = &self.state;
-        let constants = &self.constants;
-        let materials = &self.materials;
-        self.tiles
-            .par_chunks_mut(TILE * TILE)
-            .zip(self.blocks.par_iter())
-            .for_each(|(tile, &(block, start, end))| {
+            let base_of = &self.base_of;
+            tiles.for_each(|(tile, &(block, start, end))| {
+                tile.fill([0.0; 3]);
                 let corner = block_corner(block, along);
                 let range = start as usize..end as usize;
-                for (particle, constant) in state[range.clone()].iter().zip(&constants[range]) {
-                    let material = &materials[constant.material as usize];
-                    scatter_particle(
-                        tile, corner, particle, constant, material, origin, dx, inverse, dt,
-                    );
+                let (Some(particles), Some(constants), Some(bases)) = (
+                    state.get(range.clone()),
+                    constants.get(range.clone()),
+                    base_of.get(range),
+                ) else {
+                    return;
+                };
+                for ((particle, constant), &base) in particles.iter().zip(constants).zip(bases) {
+                    if let Some(material) = materials.get(constant.material as usize) {
+                        scatter_particle(tile, corner, particle, base, constant, material, &step);
+                    }
                 }
             });
-        self.nodes.par_iter_mut().for_each(|node| *node = [0.0; 3]);
-        for (tile, &(block, _, _)) in self.tiles.chunks(TILE * TILE).zip(&self.blocks) {
-            let corner = block_corner(block, along);
-            for a in 0..TILE.min(nodes[0] - corner[0]) {
-                let row = (corner[0] + a) * nodes[1] + corner[1];
-                let width = TILE.min(nodes[1] - corner[1]);
-                for (node, value) in self.nodes[row..row + width]
-                    .iter_mut()
-                    .zip(&tile[a * TILE..a * TILE + width])
-                {
-                    node[0] += value[0];
-                    node[1] += value[1];
-                    node[2] += value[2];
-                }
-            }
+            return;
         }
-    }
-
-    /// Momentum to velocity, gravity, domain walls, colliders; row by row in parallel.
-    fn update_grid(&mut self, dt: f64) {
-        let nodes = self.grid.nodes;
-        let walls = self.grid.walls;
-        let gravity = [dt * self.settings.gravity[0], dt * self.settings.gravity[1]];
-        let colliders = &self.colliders;
-        self.nodes
-            .par_chunks_mut(nodes[1])
-            .enumerate()
-            .for_each(|(i, row)| {
-                for (j, node) in row.iter_mut().enumerate() {
-                    if node[2] <= 0.0 {
-                        node[0] = 0.0;
-                        node[1] = 0.0;
+        let count = self.state.len();
+        self.spare_state.resize(count, ParticleState::default());
+        self.spare_constants
+            .resize(count, ParticleConstants::default());
+        self.spare_base.resize(count, [0; 2]);
+        // Each block's slots of the spare buffers, cut in block order.
+        let mut slots = Vec::with_capacity(blocks.len());
+        let mut rest_state = self.spare_state.as_mut_slice();
+        let mut rest_constants = self.spare_constants.as_mut_slice();
+        let mut rest_base = self.spare_base.as_mut_slice();
+        for &(_, start, end) in blocks {
+            let length = (end - start) as usize;
+            let (state_here, state_after) = rest_state.split_at_mut(length.min(rest_state.len()));
+            let (constants_here, constants_after) =
+                rest_constants.split_at_mut(length.min(rest_constants.len()));
+            let (base_here, base_after) = rest_base.split_at_mut(length.min(rest_base.len()));
+            slots.push((state_here, constants_here, base_here, start as usize));
+            rest_state = state_after;
+            rest_constants = constants_after;
+            rest_base = base_after;
+        }
+        let state = &self.state;
+        let constants = &self.constants;
+        let base_of = &self.base_of;
+        let order = &self.bins.order;
+        tiles.zip(slots.into_par_iter()).for_each(
+            |((tile, &(block, _, _)), (states_out, constants_out, bases_out, start))| {
+                tile.fill([0.0; 3]);
+                let corner = block_corner(block, along);
+                let sources = order.get(start..start + states_out.len()).unwrap_or(&[]);
+                let outputs = states_out
+                    .iter_mut()
+                    .zip(constants_out.iter_mut())
+                    .zip(bases_out);
+                for (((state_out, constant_out), base_out), &source) in outputs.zip(sources) {
+                    let source = source as usize;
+                    let (Some(particle), Some(constant), Some(&base)) = (
+                        state.get(source),
+                        constants.get(source),
+                        base_of.get(source),
+                    ) else {
                         continue;
+                    };
+                    *state_out = *particle;
+                    *constant_out = *constant;
+                    *base_out = base;
+                    if let Some(material) = materials.get(constant.material as usize) {
+                        scatter_particle(tile, corner, particle, base, constant, material, &step);
                     }
-                    let mut velocity = [
-                        node[0] / node[2] + gravity[0],
-                        node[1] / node[2] + gravity[1],
-                    ];
-                    if i < walls.low && velocity[0] < 0.0
-                        || i >= nodes[0] - walls.high && velocity[0] > 0.0
-                    {
-                        velocity[0] = 0.0;
-                    }
-                    if j < walls.low && velocity[1] < 0.0
-                        || j >= nodes[1] - walls.high && velocity[1] > 0.0
-                    {
-                        velocity[1] = 0.0;
-                    }
-                    if let Some((normal, boundary)) = colliders.constraint(i * nodes[1] + j) {
-                        velocity = project(velocity, normal, boundary);
-                    }
-                    node[0] = velocity[0];
-                    node[1] = velocity[1];
                 }
-            });
+            },
+        );
+        std::mem::swap(&mut self.state, &mut self.spare_state);
+        std::mem::swap(&mut self.constants, &mut self.spare_constants);
+        std::mem::swap(&mut self.base_of, &mut self.spare_base);
     }
 
-    /// Grid to particle: velocity, APIC matrix, position, volume ratio; checks finiteness.
+    /// Tiles into grid velocities (see [`merge_and_update`]).
+    fn update_grid(&mut self, dt: f64) {
+        let update = GridUpdate {
+            grid: &self.grid,
+            gravity: [dt * self.settings.gravity[0], dt * self.settings.gravity[1]],
+            colliders: &self.colliders,
+            tiles: &self.tiles,
+            tile_of: &self.bins.tile_of,
+        };
+        merge_and_update(&mut self.nodes, &update);
+    }
+
+    /// Grid to particle: velocity, APIC matrix, position, volume ratio; checks finiteness and
+    /// computes each particle's block for the next binning.
     fn gather(&mut self, dt: f64) -> Result<(), MpmError> {
-        let dx = self.grid.spacing;
-        let inverse = 1.0 / dx;
-        let origin = self.grid.origin;
+        let step = self.step_constants(dt);
         let nodes = &self.nodes;
         let columns = self.grid.nodes[1];
+        let along = blocks_along(&self.grid);
         let limits = self.position_limits();
         let colliders = &self.colliders;
+        let any_collider = colliders.has_colliders();
+        self.block_of.resize(self.state.len(), 0);
+        self.base_of.resize(self.state.len(), [0; 2]);
         let outcome = self
             .state
             .par_chunks_mut(GATHER_CHUNK)
+            .zip(self.block_of.par_chunks_mut(GATHER_CHUNK))
+            .zip(self.base_of.par_chunks_mut(GATHER_CHUNK))
             .enumerate()
-            .map(|(chunk, particles)| {
+            .map(|(chunk, ((particles, blocks), bases))| {
                 let mut outcome = GatherOutcome::default();
-                for (offset, particle) in particles.iter_mut().enumerate() {
-                    gather_particle(particle, nodes, columns, origin, dx, inverse, dt);
-                    let nearest = nearest_node(particle.position, origin, inverse, columns);
-                    outcome.pushed_out += u64::from(colliders.push_out(particle, nearest));
+                let each = particles.iter_mut().zip(blocks).zip(bases);
+                for (offset, ((particle, block), base)) in each.enumerate() {
+                    gather_particle(particle, *base, nodes, columns, &step);
+                    if any_collider {
+                        let nearest = step.nearest_node(particle.position, columns);
+                        outcome.pushed_out += u64::from(colliders.push_out(particle, nearest));
+                    }
                     outcome.clamped += u64::from(clamp_position(&mut particle.position, limits));
                     let ratio = particle.volume_ratio;
                     if ratio < VOLUME_RATIO_RANGE.0 || ratio > VOLUME_RATIO_RANGE.1 {
@@ -550,8 +538,13 @@ impl Solver {
                     if !is_finite(particle) && outcome.first_bad.is_none() {
                         outcome.first_bad = Some(chunk * GATHER_CHUNK + offset);
                     }
-                    outcome.max_speed = outcome.max_speed.max(speed(particle));
-                    outcome.max_affine = outcome.max_affine.max(affine_norm(particle));
+                    outcome.max_speed_squared =
+                        outcome.max_speed_squared.max(speed_squared(particle));
+                    outcome.max_affine_squared = outcome
+                        .max_affine_squared
+                        .max(affine_norm_squared(particle));
+                    *base = step.base_cell(particle.position);
+                    *block = block_key(*base, along);
                 }
                 outcome
             })
@@ -566,9 +559,18 @@ impl Solver {
         self.counters.clamped += outcome.clamped;
         self.counters.volume_ratio_clamped += outcome.ratio_clamped;
         self.counters.pushed_out += outcome.pushed_out;
-        self.max_speed = outcome.max_speed;
-        self.max_affine = outcome.max_affine;
+        self.max_speed = outcome.max_speed_squared.sqrt();
+        self.max_affine = outcome.max_affine_squared.sqrt();
         Ok(())
+    }
+
+    fn step_constants(&self, dt: f64) -> StepConstants {
+        StepConstants {
+            origin: self.grid.origin,
+            dx: self.grid.spacing,
+            inverse: 1.0 / self.grid.spacing,
+            dt,
+        }
     }
 
     /// Positions stay within `[dx/2, (n − 3/2)·dx)` of the origin: the widest range whose 3 × 3
@@ -594,7 +596,7 @@ impl Solver {
     }
 
     fn speed_seen(&mut self, state: &ParticleState) {
-        self.max_speed = self.max_speed.max(speed(state));
+        self.max_speed = self.max_speed.max(speed_squared(state).sqrt());
     }
 }
 
@@ -608,8 +610,8 @@ struct GatherOutcome {
     clamped: u64,
     ratio_clamped: u64,
     pushed_out: u64,
-    max_speed: f64,
-    max_affine: f64,
+    max_speed_squared: f64,
+    max_affine_squared: f64,
 }
 
 impl GatherOutcome {
@@ -622,186 +624,8 @@ impl GatherOutcome {
             clamped: a.clamped + b.clamped,
             ratio_clamped: a.ratio_clamped + b.ratio_clamped,
             pushed_out: a.pushed_out + b.pushed_out,
-            max_speed: a.max_speed.max(b.max_speed),
-            max_affine: a.max_affine.max(b.max_affine),
+            max_speed_squared: a.max_speed_squared.max(b.max_speed_squared),
+            max_affine_squared: a.max_affine_squared.max(b.max_affine_squared),
         }
     }
-}
-
-fn speed(state: &ParticleState) -> f64 {
-    (state.velocity[0] * state.velocity[0] + state.velocity[1] * state.velocity[1]).sqrt()
-}
-
-fn affine_norm(state: &ParticleState) -> f64 {
-    state
-        .affine
-        .iter()
-        .map(|value| value * value)
-        .sum::<f64>()
-        .sqrt()
-}
-
-fn is_finite(state: &ParticleState) -> bool {
-    state.position.iter().all(|value| value.is_finite())
-        && state.velocity.iter().all(|value| value.is_finite())
-        && state.affine.iter().all(|value| value.is_finite())
-        && state.volume_ratio.is_finite()
-}
-
-fn clamp_position(position: &mut [f64; 2], limits: [[f64; 2]; 2]) -> bool {
-    let mut clamped = false;
-    for axis in 0..2 {
-        let value = position[axis];
-        if value < limits[0][axis] || value > limits[1][axis] {
-            position[axis] = value.clamp(limits[0][axis], limits[1][axis]);
-            clamped = true;
-        }
-    }
-    clamped
-}
-
-/// The node at the low corner of a particle's 3 × 3 stencil.
-#[inline]
-fn base_node(position: [f64; 2], origin: [f64; 2], inverse: f64) -> [usize; 2] {
-    let x = (position[0] - origin[0]) * inverse - 0.5;
-    let y = (position[1] - origin[1]) * inverse - 0.5;
-    [grid_index(x), grid_index(y)]
-}
-
-/// Index of the grid node nearest to `position` (clamped positions keep it in the grid).
-#[inline]
-fn nearest_node(position: [f64; 2], origin: [f64; 2], inverse: f64, columns: usize) -> usize {
-    let i = grid_index(((position[0] - origin[0]) * inverse).round());
-    let j = grid_index(((position[1] - origin[1]) * inverse).round());
-    i * columns + j
-}
-
-/// A grid coordinate (in cells) as a node index: positions are clamped into the grid, so it is
-/// ≥ 0 and small; `as` saturates anyway.
-#[inline]
-#[expect(
-    clippy::cast_possible_truncation,
-    clippy::cast_sign_loss,
-    reason = "clamped positions give small non-negative cell coordinates"
-)]
-fn grid_index(cells: f64) -> usize {
-    cells.floor() as usize
-}
-
-/// A particle, block or material index as stored: particle ids are `u32` (`add_particle` refuses
-/// the 2³²-th), and grids have at most 2³⁰ nodes.
-#[inline]
-#[expect(
-    clippy::cast_possible_truncation,
-    reason = "indices are bounded by the u32 particle ids and the grid size"
-)]
-fn index_u32(index: usize) -> u32 {
-    index as u32
-}
-
-fn block_corner(block: u32, along: [usize; 2]) -> [usize; 2] {
-    let block = block as usize;
-    [(block / along[1]) * BLOCK, (block % along[1]) * BLOCK]
-}
-
-/// Quadratic B-spline weights along one axis for fractional offset `fx ∈ [0.5, 1.5)`.
-#[inline]
-fn weights(fx: f64) -> [f64; 3] {
-    [
-        0.5 * (1.5 - fx) * (1.5 - fx),
-        0.75 - (fx - 1.0) * (fx - 1.0),
-        0.5 * (fx - 0.5) * (fx - 0.5),
-    ]
-}
-
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn scatter_particle(
-    tile: &mut [[f64; 3]],
-    corner: [usize; 2],
-    particle: &ParticleState,
-    constant: &ParticleConstants,
-    material: &Material,
-    origin: [f64; 2],
-    dx: f64,
-    inverse: f64,
-    dt: f64,
-) {
-    let scaled = [
-        (particle.position[0] - origin[0]) * inverse,
-        (particle.position[1] - origin[1]) * inverse,
-    ];
-    let base = base_node(particle.position, origin, inverse);
-    let fx = [scaled[0] - base[0] as f64, scaled[1] - base[1] as f64];
-    let w = [weights(fx[0]), weights(fx[1])];
-    let stress = material.kirchhoff_stress(particle.volume_ratio, &particle.affine);
-    let scale = -dt * 4.0 * constant.volume * inverse * inverse;
-    let mass = constant.mass;
-    let affine = [
-        scale * stress[0] + mass * particle.affine[0],
-        scale * stress[1] + mass * particle.affine[1],
-        scale * stress[2] + mass * particle.affine[2],
-        scale * stress[3] + mass * particle.affine[3],
-    ];
-    let momentum = [mass * particle.velocity[0], mass * particle.velocity[1]];
-    let local = [base[0] - corner[0], base[1] - corner[1]];
-    for (i, wi) in w[0].iter().enumerate() {
-        let dpos_x = (i as f64 - fx[0]) * dx;
-        let row = (local[0] + i) * TILE + local[1];
-        for (j, wj) in w[1].iter().enumerate() {
-            let dpos_y = (j as f64 - fx[1]) * dx;
-            let weight = wi * wj;
-            let node = &mut tile[row + j];
-            node[0] += weight * (momentum[0] + (affine[0] * dpos_x + affine[1] * dpos_y));
-            node[1] += weight * (momentum[1] + (affine[2] * dpos_x + affine[3] * dpos_y));
-            node[2] += weight * mass;
-        }
-    }
-}
-
-#[inline]
-fn gather_particle(
-    particle: &mut ParticleState,
-    nodes: &[[f64; 3]],
-    columns: usize,
-    origin: [f64; 2],
-    dx: f64,
-    inverse: f64,
-    dt: f64,
-) {
-    let scaled = [
-        (particle.position[0] - origin[0]) * inverse,
-        (particle.position[1] - origin[1]) * inverse,
-    ];
-    let base = base_node(particle.position, origin, inverse);
-    let fx = [scaled[0] - base[0] as f64, scaled[1] - base[1] as f64];
-    let w = [weights(fx[0]), weights(fx[1])];
-    let mut velocity = [0.0; 2];
-    let mut affine = [0.0; 4];
-    for (i, wi) in w[0].iter().enumerate() {
-        let dpos_x = (i as f64 - fx[0]) * dx;
-        let row = (base[0] + i) * columns + base[1];
-        for (j, wj) in w[1].iter().enumerate() {
-            let dpos_y = (j as f64 - fx[1]) * dx;
-            let weight = wi * wj;
-            // Positions are clamped so the stencil is in the grid; a miss reads zero.
-            let node = nodes.get(row + j).copied().unwrap_or([0.0; 3]);
-            velocity[0] += weight * node[0];
-            velocity[1] += weight * node[1];
-            let scaled_weight = 4.0 * weight;
-            affine[0] += scaled_weight * node[0] * dpos_x;
-            affine[1] += scaled_weight * node[0] * dpos_y;
-            affine[2] += scaled_weight * node[1] * dpos_x;
-            affine[3] += scaled_weight * node[1] * dpos_y;
-        }
-    }
-    let inverse_squared = inverse * inverse;
-    for value in &mut affine {
-        *value *= inverse_squared;
-    }
-    particle.velocity = velocity;
-    particle.position[0] += dt * velocity[0];
-    particle.position[1] += dt * velocity[1];
-    particle.volume_ratio *= 1.0 + dt * (affine[0] + affine[3]);
-    particle.affine = affine;
 }
