@@ -7,15 +7,15 @@ use super::MpmError;
 /// A material of the MPM core. Elastoplastic materials (the ball scenario) are added here.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
-    /// A weakly compressible fluid.
-    Fluid(FluidMaterial),
+    /// A weakly compressible liquid (the fluid scenario's fluids).
+    Liquid(LiquidMaterial),
 }
 
-/// A weakly compressible viscous fluid: Kirchhoff stress `τ = κ(J − 1)·I + μ·J·(C + Cᵀ)`, the
+/// A weakly compressible viscous liquid: Kirchhoff stress `τ = κ(J − 1)·I + μ·J·(C + Cᵀ)`, the
 /// pressure of Taichi's `mpm88` (`E(J − 1)`) plus Newtonian viscosity with the APIC matrix `C` as
 /// the velocity gradient.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FluidMaterial {
+pub struct LiquidMaterial {
     /// Rest density ρ, mass per unit area (2D).
     pub density: f64,
     /// Bulk modulus κ, stress units.
@@ -33,23 +33,23 @@ impl Material {
     pub fn validate(&self, index: usize) -> Result<(), MpmError> {
         let invalid = |reason: String| MpmError::InvalidMaterial { index, reason };
         match self {
-            Material::Fluid(fluid) => {
-                if !(fluid.density.is_finite() && fluid.density > 0.0) {
+            Material::Liquid(liquid) => {
+                if !(liquid.density.is_finite() && liquid.density > 0.0) {
                     return Err(invalid(format!(
                         "density {} is not positive and finite",
-                        fluid.density
+                        liquid.density
                     )));
                 }
-                if !(fluid.bulk_modulus.is_finite() && fluid.bulk_modulus > 0.0) {
+                if !(liquid.bulk_modulus.is_finite() && liquid.bulk_modulus > 0.0) {
                     return Err(invalid(format!(
                         "bulk modulus {} is not positive and finite",
-                        fluid.bulk_modulus
+                        liquid.bulk_modulus
                     )));
                 }
-                if !(fluid.viscosity.is_finite() && fluid.viscosity >= 0.0) {
+                if !(liquid.viscosity.is_finite() && liquid.viscosity >= 0.0) {
                     return Err(invalid(format!(
                         "viscosity {} is not finite and non-negative",
-                        fluid.viscosity
+                        liquid.viscosity
                     )));
                 }
                 Ok(())
@@ -60,21 +60,21 @@ impl Material {
     /// Rest density.
     pub fn density(&self) -> f64 {
         match self {
-            Material::Fluid(fluid) => fluid.density,
+            Material::Liquid(liquid) => liquid.density,
         }
     }
 
     /// Speed of its pressure (or elastic) waves, `√(κ/ρ)`.
     pub fn wave_speed(&self) -> f64 {
         match self {
-            Material::Fluid(fluid) => (fluid.bulk_modulus / fluid.density).sqrt(),
+            Material::Liquid(liquid) => (liquid.bulk_modulus / liquid.density).sqrt(),
         }
     }
 
     /// Kinematic viscosity `μ/ρ`, which bounds an explicit step by `dx²/(4ν)` in 2D.
     pub fn kinematic_viscosity(&self) -> f64 {
         match self {
-            Material::Fluid(fluid) => fluid.viscosity / fluid.density,
+            Material::Liquid(liquid) => liquid.viscosity / liquid.density,
         }
     }
 
@@ -82,12 +82,12 @@ impl Material {
     #[inline]
     pub fn kirchhoff_stress(&self, j: f64, c: &[f64; 4]) -> [f64; 4] {
         match self {
-            Material::Fluid(fluid) => {
-                let pressure = fluid.bulk_modulus * (j - 1.0);
-                if fluid.viscosity == 0.0 {
+            Material::Liquid(liquid) => {
+                let pressure = liquid.bulk_modulus * (j - 1.0);
+                if liquid.viscosity == 0.0 {
                     return [pressure, 0.0, 0.0, pressure];
                 }
-                let scale = fluid.viscosity * j;
+                let scale = liquid.viscosity * j;
                 let shear = scale * (c[1] + c[2]);
                 [
                     pressure + 2.0 * scale * c[0],

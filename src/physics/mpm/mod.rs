@@ -36,7 +36,7 @@ mod transfer;
 
 pub use collider::{Boundary, Collider, Shape};
 pub use emitter::Emitter;
-pub use material::{FluidMaterial, Material, VOLUME_RATIO_RANGE};
+pub use material::{LiquidMaterial, Material, VOLUME_RATIO_RANGE};
 pub use solver::{ParticleState, Settings, Solver, WorkCounters};
 
 /// Errors of the MPM core; each names the value at fault.

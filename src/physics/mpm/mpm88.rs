@@ -8,7 +8,7 @@
 //!
 //! Input: initial positions. Output: a [`Solver`] and, after stepping, a [`Summary`].
 
-use super::{FluidMaterial, GridSpec, Material, MpmError, Settings, Solver, Walls};
+use super::{GridSpec, LiquidMaterial, Material, MpmError, Settings, Solver, Walls};
 
 /// The example's constants for a particle count.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +53,7 @@ impl Mpm88 {
             nodes: [self.nodes, self.nodes],
             walls: Walls { low: 3, high: 2 },
         };
-        let material = Material::Fluid(FluidMaterial {
+        let material = Material::Liquid(LiquidMaterial {
             density: 1.0,
             bulk_modulus: YOUNGS_MODULUS,
             viscosity: 0.0,

@@ -12,7 +12,7 @@ fn open_grid(nodes: usize, spacing: f64) -> GridSpec {
 }
 
 fn water(bulk_modulus: f64, viscosity: f64) -> Material {
-    Material::Fluid(FluidMaterial {
+    Material::Liquid(LiquidMaterial {
         density: 1000.0,
         bulk_modulus,
         viscosity,
@@ -463,7 +463,7 @@ fn stiff_and_extreme_cases_stay_finite_and_bounded() {
         fill(solver, 1, [0.2, 0.25], [0.6, 0.4], [0.0; 2]);
     };
     let light = water(1e4, 0.01);
-    let heavy = Material::Fluid(FluidMaterial {
+    let heavy = Material::Liquid(LiquidMaterial {
         density: 5000.0,
         bulk_modulus: 5e4,
         viscosity: 0.01,

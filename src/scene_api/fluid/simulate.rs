@@ -41,7 +41,7 @@ use crate::dataset::fluid::world::{
 };
 use crate::dataset::fluid::{DensityRelation, FluidAnnotation, FluidTracking};
 use crate::physics::mpm::{
-    Boundary, Collider, Emitter, FluidMaterial, GridSpec, Material, MpmError, ParticleState,
+    Boundary, Collider, Emitter, GridSpec, LiquidMaterial, Material, MpmError, ParticleState,
     Settings, Shape, Solver, Walls, WorkCounters,
 };
 
@@ -362,7 +362,7 @@ fn build_solver(
         } else {
             settings.thin_viscosity
         };
-        fluid_materials.push(Material::Fluid(FluidMaterial {
+        fluid_materials.push(Material::Liquid(LiquidMaterial {
             density: guess.density,
             bulk_modulus: guess.density * settings.sound_speed * settings.sound_speed,
             viscosity: guess.density * viscosity,

@@ -547,9 +547,9 @@ fn simulate_needs_the_tracked_particles_and_maskrcnn_is_not_implemented_for_flui
 fn simulate_answers_the_demo_video_and_runs_each_simulation_once_when_asked() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("eval/demo/fluid_slides/0");
     let annotation = FluidAnnotation::load(&dir.join("outputs.json")).unwrap();
-    let coarse = simulate::RunSettings {
+    let coarse = RunSettings {
         grid_spacing: 0.1,
-        ..simulate::RunSettings::default()
+        ..RunSettings::default()
     };
     let backend =
         FluidBackend::new(annotation, DynamicsBackend::Simulate, dir).with_run_settings(coarse);
