@@ -11,4 +11,4 @@ mod seed;
 
 pub use fs::{FsError, append_line_durable, write_atomic};
 pub use hash::{canonical_json, content_hash, content_hash_json};
-pub use seed::{derive_seed, seeded_rng};
+pub use seed::{derive_seed, seeded_rng, standard_normal};

@@ -23,6 +23,14 @@ pub fn seeded_rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
 }
 
+/// A standard normal draw (Box–Muller), for the noise the inference benches add to tracks.
+pub fn standard_normal(rng: &mut ChaCha8Rng) -> f64 {
+    use rand::Rng as _;
+    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

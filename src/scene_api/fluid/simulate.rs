@@ -73,6 +73,22 @@ pub struct PerceivedCollider {
     pub radius: f64,
 }
 
+impl PerceivedCollider {
+    /// The MPM collider it is simulated as (and whose surface contacts are measured from).
+    fn capsule(&self) -> Collider {
+        Collider {
+            shape: Shape::Capsule {
+                a: self.start,
+                b: self.end,
+                radius: self.radius,
+            },
+            boundary: Boundary::Separate {
+                friction: COLLIDER_FRICTION,
+            },
+        }
+    }
+}
+
 /// An emitter as perception sees it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PerceivedEmitter {
@@ -368,19 +384,7 @@ fn build_solver(
             viscosity: guess.density * viscosity,
         }));
     }
-    let mpm_colliders: Vec<Collider> = colliders
-        .iter()
-        .map(|collider| Collider {
-            shape: Shape::Capsule {
-                a: collider.start,
-                b: collider.end,
-                radius: collider.radius,
-            },
-            boundary: Boundary::Separate {
-                friction: COLLIDER_FRICTION,
-            },
-        })
-        .collect();
+    let mpm_colliders: Vec<Collider> = colliders.iter().map(|c| c.capsule()).collect();
     let mpm_settings = Settings {
         gravity: [0.0, -GRAVITY],
         threads: settings.threads,
@@ -436,7 +440,7 @@ fn resample(available: usize, count: usize) -> impl Iterator<Item = usize> {
 /// Which colliders a point touches, by a coarse lookup: each cell lists the colliders within
 /// reach of it, so a particle tests a handful instead of all.
 struct ContactMap {
-    capsules: Vec<([f64; 2], [f64; 2], f64)>,
+    capsules: Vec<Collider>,
     origin: [f64; 2],
     cell: f64,
     columns: usize,
@@ -459,10 +463,10 @@ impl ContactMap {
             |axis: usize| ((TANK_INNER[1][axis] - TANK_INNER[0][axis] + 1.0) / cell) as usize + 1;
         let (columns, rows) = (count(0), count(1));
         // At most 64 colliders get a bit (the release's scenes have about 30).
-        let capsules: Vec<([f64; 2], [f64; 2], f64)> = colliders
+        let capsules: Vec<Collider> = colliders
             .iter()
             .take(64)
-            .map(|collider| (collider.start, collider.end, collider.radius))
+            .map(|collider| collider.capsule())
             .collect();
         let mut near = vec![0u64; columns * rows];
         // A cell's centre within reach + half its diagonal of a capsule's surface.
@@ -473,8 +477,8 @@ impl ContactMap {
                     origin[0] + (column as f64 + 0.5) * cell,
                     origin[1] + (row as f64 + 0.5) * cell,
                 ];
-                for (index, &(a, b, radius)) in capsules.iter().enumerate() {
-                    if surface_distance(centre, a, b, radius) < slack {
+                for (index, capsule) in capsules.iter().enumerate() {
+                    if capsule.signed_distance(centre).0 < slack {
                         near[column * rows + row] |= 1 << index;
                     }
                 }
@@ -516,28 +520,14 @@ impl ContactMap {
         while candidates != 0 {
             let index = candidates.trailing_zeros() as usize;
             candidates &= candidates - 1;
-            if let Some(&(a, b, radius)) = self.capsules.get(index)
-                && surface_distance(point, a, b, radius) < self.reach
+            if let Some(capsule) = self.capsules.get(index)
+                && capsule.signed_distance(point).0 < self.reach
             {
                 bits |= 1 << index;
             }
         }
         bits
     }
-}
-
-/// Distance from `point` to the surface of the capsule `a`–`b` of `radius` (negative inside).
-fn surface_distance(point: [f64; 2], a: [f64; 2], b: [f64; 2], radius: f64) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let ap = [point[0] - a[0], point[1] - a[1]];
-    let length_squared = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if length_squared > 0.0 {
-        ((ap[0] * ab[0] + ap[1] * ab[1]) / length_squared).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let closest = [a[0] + t * ab[0], a[1] + t * ab[1]];
-    (point[0] - closest[0]).hypot(point[1] - closest[1]) - radius
 }
 
 /// The run's `trackingData` from each particle's contacts and final position (particles in id
@@ -757,7 +747,7 @@ mod tests {
                 let expected: u64 = colliders
                     .iter()
                     .enumerate()
-                    .filter(|(_, c)| surface_distance(point, c.start, c.end, c.radius) < reach)
+                    .filter(|(_, c)| c.capsule().signed_distance(point).0 < reach)
                     .map(|(index, _)| 1 << index)
                     .sum();
                 assert_eq!(map.touching(point), expected, "{point:?}");

@@ -17,7 +17,6 @@
 use std::time::Instant;
 
 use indexmap::IndexMap;
-use rand::Rng;
 use serde_json::{Value, json};
 
 use super::simulation::infer_rope_masses;
@@ -25,7 +24,7 @@ use crate::dataset::rope::RopeAnnotation;
 use crate::dataset::{FourDData, VideoFolder};
 use crate::physics::rope::identify::{PairVerdict, RatioClass, Undecidable};
 use crate::scene_api::ApiError;
-use crate::util::{derive_seed, seeded_rng};
+use crate::util::{derive_seed, seeded_rng, standard_normal};
 
 /// A short key for an undecidable reason.
 fn reason_key(reason: &Undecidable) -> &'static str {
@@ -51,13 +50,6 @@ fn describe(class: RatioClass) -> String {
         "{:?} / twice {:?} / half {:?}",
         class.to_other, class.to_twice, class.to_half
     )
-}
-
-/// A standard normal draw (Box–Muller).
-fn normal(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
 
 /// The report over `videos` (valid rope videos), one sweep per noise level (non-negative
@@ -100,7 +92,7 @@ fn sweep(videos: &[(String, RopeAnnotation, FourDData)], noise: f64) -> Value {
             let mut rng = seeded_rng(derive_seed(0, &format!("bench/inference/{id}/{noise}")));
             for track in four_d.rigid_bodies.values_mut() {
                 for (position, _) in &mut track.poses {
-                    position[1] += noise * normal(&mut rng);
+                    position[1] += noise * standard_normal(&mut rng);
                 }
             }
         }

@@ -16,7 +16,6 @@
 use std::time::Instant;
 
 use indexmap::IndexMap;
-use rand::Rng;
 use serde_json::{Value, json};
 
 use super::{FluidInference, PerceivedFluidScene, infer_fluid_properties};
@@ -24,14 +23,7 @@ use crate::dataset::fluid::FluidAnnotation;
 use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::{FourDData, VideoFolder};
 use crate::scene_api::ApiError;
-use crate::util::{derive_seed, seeded_rng};
-
-/// A standard normal draw (Box–Muller).
-fn normal(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
+use crate::util::{derive_seed, seeded_rng, standard_normal};
 
 /// Counts of one sweep (or one video).
 #[derive(Debug, Clone, Copy, Default)]
@@ -161,8 +153,8 @@ fn sweep(videos: &[(String, FluidAnnotation, FourDData)], noise: f64) -> Value {
             let mut rng = seeded_rng(derive_seed(0, &format!("bench/inference/{id}/{noise}")));
             for body in four_d.soft_bodies.values_mut() {
                 for point in body.particles.iter_mut().flatten() {
-                    point[0] += noise * normal(&mut rng);
-                    point[1] += noise * normal(&mut rng);
+                    point[0] += noise * standard_normal(&mut rng);
+                    point[1] += noise * standard_normal(&mut rng);
                 }
             }
         }
