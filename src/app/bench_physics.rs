@@ -1,42 +1,156 @@
-//! `bench physics`: a simulator's error against its run time over a sweep of time steps, as
-//! JSON on stdout and an SVG plot (`--svg FILE`).
+//! `bench physics`: a simulator's error against its run time over a sweep of its resolution
+//! parameters (time step; grid spacing and particles per cell), as JSON on stdout and an SVG
+//! plot (`--svg FILE`).
 //!
-//! The scenario's simulator brings its cases (`physics::bench`, the scenario table's
-//! `physics_bench`): each with a closed form, or else a run at a step 10× finer than the finest
-//! swept as the reference. Every case runs at every step (best of three for the time; the
-//! results are identical each time), and its error is the largest difference of any compared
-//! quantity from the reference at the end.
+//! The scenario's simulator brings its parameters, sweep and cases (`physics::bench`, the
+//! scenario table's `physics_bench`): each case with a closed form, or else a run at the
+//! simulator's reference point. Every case runs at every point (best of the simulator's repeats
+//! for the time; the results are identical each time), and each error measure is the largest
+//! difference of its quantities from the reference at the end. The default point is always
+//! measured, and the report ends with its largest error and its run time as a share of the
+//! reference's.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::io::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use serde_json::{Value, json};
+use serde_json::{Map, Value, json};
 
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
-use crate::dataset::Scenario;
-use crate::physics::bench::{BenchCase, PhysicsBench};
+use super::settings::BenchPhysicsSettings;
+use crate::physics::bench::{BenchCase, Measured, PhysicsBench};
 use crate::scenarios;
 
-/// One case's sweep: its name and `(dt s, error m, run time ms)` per step.
-type Series = (&'static str, Vec<(f64, f64, f64)>);
+/// One case's sweep for the plot: its name and `(point, largest error, run time ms)` per point.
+type Series = (String, Vec<(Vec<f64>, f64, f64)>);
 
-/// The quantities of `case` at step `dt`, and the wall time, ms.
-fn simulate(case: &BenchCase, dt: f64) -> Result<(Vec<f64>, f64), AppError> {
+/// The quantities of `case` at `point`, and the wall time, ms.
+fn simulate(case: &BenchCase, point: &[f64]) -> Result<(Measured, f64), AppError> {
     let started = Instant::now();
-    let quantities = (case.run)(dt).user()?;
+    let quantities = (case.run)(point).user()?;
     Ok((quantities, started.elapsed().as_secs_f64() * 1e3))
 }
 
-pub(crate) fn bench_physics(
-    scenario: Option<Scenario>,
-    steps: Option<&[f64]>,
-    svg: Option<&Path>,
-) -> Result<ExitCode, AppError> {
+/// Per error measure, the largest difference of `measured` from `reference`; a quantity
+/// missing on one side counts as infinitely wrong.
+fn errors(measured: &Measured, reference: &Measured) -> Vec<f64> {
+    reference
+        .iter()
+        .enumerate()
+        .map(|(index, expected)| {
+            let Some(got) = measured.get(index) else {
+                return f64::INFINITY;
+            };
+            if got.len() != expected.len() {
+                return f64::INFINITY;
+            }
+            got.iter()
+                .zip(expected)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0_f64, f64::max)
+        })
+        .collect()
+}
+
+/// The points to sweep: the simulator's, or the product of the values given per parameter
+/// (the others at their default); the default point is added when missing.
+fn sweep_points(
+    bench: &PhysicsBench,
+    scenario: &str,
+    overrides: &[(&'static str, Vec<f64>)],
+) -> Result<Vec<Vec<f64>>, AppError> {
+    let flags = || {
+        bench
+            .parameters
+            .iter()
+            .map(|parameter| parameter.flag)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for (flag, values) in overrides {
+        if !bench
+            .parameters
+            .iter()
+            .any(|parameter| parameter.flag == *flag)
+        {
+            return Err(user_error(format!(
+                "bench physics: the {scenario} simulator does not sweep {flag} (it sweeps {})",
+                flags()
+            )));
+        }
+        // A shift may be zero or negative; resolutions must be positive.
+        let positive = *flag != "--emitter-shift";
+        if values.is_empty()
+            || values
+                .iter()
+                .any(|value| !value.is_finite() || (positive && *value <= 0.0))
+        {
+            return Err(user_error(format!(
+                "bench physics: {flag} needs {} values",
+                if positive { "positive" } else { "finite" }
+            )));
+        }
+    }
+    let mut points: Vec<Vec<f64>> = if overrides.is_empty() {
+        bench.sweep.iter().map(|point| point.to_vec()).collect()
+    } else {
+        let mut points = vec![Vec::new()];
+        for (index, parameter) in bench.parameters.iter().enumerate() {
+            let values = overrides
+                .iter()
+                .find(|(flag, _)| *flag == parameter.flag)
+                .map_or_else(
+                    || vec![bench.default.get(index).copied().unwrap_or(f64::NAN)],
+                    |(_, values)| values.clone(),
+                );
+            points = points
+                .into_iter()
+                .flat_map(|point| {
+                    values.iter().map(move |value| {
+                        let mut next = point.clone();
+                        next.push(*value);
+                        next
+                    })
+                })
+                .collect();
+        }
+        points
+    };
+    if !points.iter().any(|point| point.as_slice() == bench.default) {
+        points.push(bench.default.to_vec());
+    }
+    Ok(points)
+}
+
+/// `point` as a JSON object keyed by the parameters.
+fn point_json(bench: &PhysicsBench, point: &[f64]) -> Map<String, Value> {
+    bench
+        .parameters
+        .iter()
+        .zip(point)
+        .map(|(parameter, value)| (parameter.key.to_string(), json!(value)))
+        .collect()
+}
+
+/// `point` in words (`grid_spacing = 0.02, particles_per_cell_side = 2`).
+fn point_words(bench: &PhysicsBench, point: &[f64]) -> String {
+    bench
+        .parameters
+        .iter()
+        .zip(point)
+        .map(|(parameter, value)| format!("{} = {value}", parameter.key))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Runs `bench physics`.
+pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode, AppError> {
     let with_bench = || scenarios::names_with(|row| row.physics_bench.is_some());
-    let scenario = scenario
+    let scenario = settings
+        .scenario
         .or_else(|| scenarios::only_with(|row| row.physics_bench.is_some()))
         .ok_or_else(|| {
             user_error(format!(
@@ -50,65 +164,114 @@ pub(crate) fn bench_physics(
             with_bench()
         )));
     };
-    let steps = steps.unwrap_or(bench.steps);
-    if steps.is_empty() || steps.iter().any(|dt| !(dt.is_finite() && *dt > 0.0)) {
-        return Err(user_error("bench physics: --dt needs positive time steps"));
-    }
+    let points = sweep_points(bench, scenario.name(), &settings.sweep)?;
+    let videos: Vec<PathBuf> = if settings.videos.is_empty() {
+        scenarios::parts(scenario)
+            .demo
+            .map(PathBuf::from)
+            .into_iter()
+            .collect()
+    } else if bench.uses_videos {
+        settings.videos.clone()
+    } else {
+        return Err(user_error(format!(
+            "bench physics: the {scenario} simulator builds its own cases; --video is not used"
+        )));
+    };
+    let reference_point = bench.reference_point(&points);
+    let mut progress = std::io::stderr().lock();
     let mut report_cases = Vec::new();
     let mut series: Vec<Series> = Vec::new();
-    for case in (bench.cases)().internal()? {
-        let (reference, reference_kind) = if let Some(exact) = &case.exact {
-            (exact.clone(), "closed form".to_string())
+    let (mut default_error, mut default_ms, mut reference_ms_total) = (0.0_f64, 0.0, 0.0);
+    for case in (bench.cases)(&videos).user()? {
+        let (reference, reference_kind, reference_ms) = if let Some(exact) = &case.exact {
+            (exact.clone(), "closed form".to_string(), None)
         } else {
-            let fine = steps.iter().copied().fold(f64::INFINITY, f64::min) / 10.0;
-            (simulate(&case, fine)?.0, format!("dt = {fine:e} s"))
+            let _ = write!(
+                progress,
+                "{}: reference ({})... ",
+                case.name,
+                point_words(bench, &reference_point)
+            );
+            let (quantities, ms) = simulate(&case, &reference_point)?;
+            let _ = writeln!(progress, "{:.1} s", ms / 1e3);
+            (quantities, point_words(bench, &reference_point), Some(ms))
         };
-        let mut points = Vec::new();
+        let mut points_out = Vec::new();
         let mut rows = Vec::new();
-        for &dt in steps {
-            // Best of three for the time; the results are identical each time.
+        for point in &points {
+            let _ = write!(progress, "{}: {}... ", case.name, point_words(bench, point));
             let mut best = f64::INFINITY;
             let mut quantities = Vec::new();
-            for _ in 0..3 {
-                let (values, ms) = simulate(&case, dt)?;
+            for _ in 0..bench.repeats.max(1) {
+                let (values, ms) = simulate(&case, point)?;
                 best = best.min(ms);
                 quantities = values;
             }
-            let error = quantities
-                .iter()
-                .zip(&reference)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0_f64, f64::max);
-            points.push((dt, error, best));
-            rows.push(json!({ "dt_s": dt, bench.error: error, "run_time_ms": best }));
+            let _ = writeln!(progress, "{:.1} s", best / 1e3);
+            let case_errors = errors(&quantities, &reference);
+            let largest = case_errors.iter().copied().fold(0.0_f64, f64::max);
+            let mut row = point_json(bench, point);
+            for (key, error) in bench.errors.iter().zip(&case_errors) {
+                row.insert((*key).to_string(), json!(error));
+            }
+            row.insert("run_time_ms".into(), json!(best));
+            if let Some(reference_ms) = reference_ms {
+                row.insert("run_time_share".into(), json!(best / reference_ms));
+            }
+            if point.as_slice() == bench.default {
+                default_error = default_error.max(largest);
+                default_ms += best;
+            }
+            points_out.push((point.clone(), largest, best));
+            rows.push(Value::Object(row));
         }
-        report_cases.push(json!({
-            "mechanism": case.name,
-            "reference": reference_kind,
-            "sweep": rows,
-        }));
-        series.push((case.name, points));
+        reference_ms_total += reference_ms.unwrap_or(0.0);
+        let mut case_report = Map::new();
+        case_report.insert("case".into(), json!(case.name));
+        case_report.insert("reference".into(), json!(reference_kind));
+        if let Some(reference_ms) = reference_ms {
+            case_report.insert("reference_run_time_ms".into(), json!(reference_ms));
+        }
+        case_report.insert("sweep".into(), Value::Array(rows));
+        report_cases.push(Value::Object(case_report));
+        series.push((case.name, points_out));
+    }
+    let mut default_summary = Map::new();
+    default_summary.insert("largest_error".into(), json!(default_error));
+    if reference_ms_total > 0.0 {
+        default_summary.insert(
+            "run_time_share_of_reference".into(),
+            json!(default_ms / reference_ms_total),
+        );
+    }
+    if let Some(tolerance) = bench.tolerance {
+        default_summary.insert("tolerance".into(), json!(tolerance));
+        default_summary.insert("within_tolerance".into(), json!(default_error <= tolerance));
     }
     let report: Value = json!({
         "scenario": scenario.name(),
         "simulated_seconds": bench.duration,
-        "default_dt_s": bench.default_dt,
+        "default": point_json(bench, bench.default),
+        "errors": bench.errors,
         "cases": report_cases,
+        "default_summary": default_summary,
     });
-    if let Some(path) = svg {
+    if let Some(path) = &settings.svg {
         crate::util::write_atomic(path, svg_plot(&series, bench).as_bytes()).user()?;
     }
     print_report(&report)
 }
 
-/// A log–log plot of error (m) against run time (ms), one polyline per mechanism, each point
-/// labelled with its step.
+/// A log–log plot of the largest error against run time (ms), one polyline per case, each point
+/// labelled with its parameters.
 fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
     let (width, height, margin) = (720.0, 480.0, 70.0);
     let all = series.iter().flat_map(|(_, p)| p.iter());
     let floor = 1e-12;
     let (mut x_min, mut x_max, mut y_min, mut y_max) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(_, error, ms) in all {
+    for (_, error, ms) in all {
+        let (error, ms) = (*error, *ms);
         x_min = x_min.min(ms.max(1e-6).log10());
         x_max = x_max.max(ms.max(1e-6).log10());
         y_min = y_min.min(error.max(floor).log10());
@@ -127,10 +290,16 @@ fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
     let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
     let _ = writeln!(
         svg,
-        r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}: error at t = {} s against run time (dt labelled)</text>"#,
+        r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}: error at t = {} s against run time ({} labelled)</text>"#,
         width / 2.0,
         bench.title,
-        bench.duration
+        bench.duration,
+        bench
+            .parameters
+            .iter()
+            .map(|parameter| parameter.label)
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     // Axes with decade ticks.
     let _ = writeln!(
@@ -168,15 +337,17 @@ fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
     );
     let _ = writeln!(
         svg,
-        r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">largest error, m</text>"#,
+        r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">{}</text>"#,
         height / 2.0,
-        height / 2.0
+        height / 2.0,
+        bench.error_axis
     );
     for (index, (name, points)) in series.iter().enumerate() {
         let colour = colours[index % colours.len()];
         let path: Vec<String> = points
             .iter()
-            .map(|&(_, error, ms)| {
+            .map(|(_, error, ms)| {
+                let (error, ms) = (*error, *ms);
                 format!(
                     "{:.1},{:.1}",
                     sx(ms.max(1e-6).log10()),
@@ -189,11 +360,18 @@ fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
             r#"<polyline points="{}" stroke="{colour}" fill="none" stroke-width="2"/>"#,
             path.join(" ")
         );
-        for &(dt, error, ms) in points {
+        for (point, error, ms) in points {
             let (x, y) = (sx(ms.max(1e-6).log10()), sy(error.max(floor).log10()));
+            let label: Vec<String> = bench
+                .parameters
+                .iter()
+                .zip(point)
+                .map(|(parameter, value)| format!("{} {value}", parameter.label))
+                .collect();
+            let label = label.join(" ");
             let _ = writeln!(
                 svg,
-                r#"<circle cx="{x:.1}" cy="{y:.1}" r="3" fill="{colour}"/><text x="{:.1}" y="{:.1}" font-size="10">{dt:e}</text>"#,
+                r#"<circle cx="{x:.1}" cy="{y:.1}" r="3" fill="{colour}"/><text x="{:.1}" y="{:.1}" font-size="10">{label}</text>"#,
                 x + 5.0,
                 y - 5.0
             );
@@ -207,4 +385,78 @@ fn svg_plot(series: &[Series], bench: &PhysicsBench) -> String {
     }
     svg.push_str("</svg>\n");
     svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::Scenario;
+
+    fn bench(scenario: Scenario) -> &'static PhysicsBench {
+        scenarios::parts(scenario).physics_bench.unwrap()
+    }
+
+    #[test]
+    fn given_values_sweep_their_parameter_with_the_others_at_their_default() {
+        let fluid = bench(Scenario::Fluid);
+        let points = sweep_points(fluid, "fluid", &[("--grid-spacing", vec![0.1, 0.04])]).unwrap();
+        // The default point (0.05, 2, 0) is always measured.
+        assert_eq!(
+            points,
+            vec![
+                vec![0.1, 2.0, 0.0],
+                vec![0.04, 2.0, 0.0],
+                vec![0.05, 2.0, 0.0]
+            ]
+        );
+        let both = sweep_points(
+            fluid,
+            "fluid",
+            &[
+                ("--grid-spacing", vec![0.1, 0.05]),
+                ("--particles-per-cell", vec![1.0, 2.0]),
+            ],
+        )
+        .unwrap();
+        assert_eq!(
+            both,
+            vec![
+                vec![0.1, 1.0, 0.0],
+                vec![0.1, 2.0, 0.0],
+                vec![0.05, 1.0, 0.0],
+                vec![0.05, 2.0, 0.0]
+            ]
+        );
+        let own = sweep_points(fluid, "fluid", &[]).unwrap();
+        assert_eq!(own.len(), fluid.sweep.len());
+        assert!(own.iter().any(|point| point.as_slice() == fluid.default));
+    }
+
+    #[test]
+    fn the_reference_is_fixed_or_tenfold_finer_than_the_finest_step() {
+        let rope = bench(Scenario::Rope);
+        let points = sweep_points(rope, "rope", &[("--dt", vec![0.02, 0.005])]).unwrap();
+        assert_eq!(rope.reference_point(&points), vec![0.0001]);
+        let fluid = bench(Scenario::Fluid);
+        assert_eq!(fluid.reference_point(&points), vec![0.02, 2.0, 0.0]);
+        // The reference is finer than every point swept by default but its own perturbed twin.
+        for point in fluid.sweep {
+            assert!(point[0] > 0.02 || point[2] != 0.0, "{point:?}");
+        }
+    }
+
+    #[test]
+    fn errors_are_per_measure_and_a_missing_quantity_is_infinitely_wrong() {
+        let reference = vec![vec![0.5, 0.25], vec![1.0]];
+        let got = errors(&vec![vec![0.5, 0.5], vec![0.9]], &reference);
+        assert!(
+            (got[0] - 0.25).abs() < 1e-15 && (got[1] - 0.1).abs() < 1e-15,
+            "{got:?}"
+        );
+        assert_eq!(
+            errors(&vec![vec![0.5], vec![1.0]], &reference),
+            vec![f64::INFINITY, 0.0]
+        );
+        assert!(errors(&vec![vec![0.5, 0.25]], &reference)[1].is_infinite());
+    }
 }

@@ -51,11 +51,7 @@ pub fn execute(request: Request) -> ExitCode {
         Request::CacheImport(settings) => score::cache_import(&settings),
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
         Request::BenchLlm(settings) => bench::bench_llm(&settings),
-        Request::BenchPhysics(settings) => bench_physics::bench_physics(
-            settings.scenario,
-            settings.steps.as_deref(),
-            settings.svg.as_deref(),
-        ),
+        Request::BenchPhysics(settings) => bench_physics::bench_physics(&settings),
         Request::Render(settings) => render::render(&settings),
         Request::BenchInference(data, noise) => bench_inference::bench_inference(&data, &noise),
         Request::Generate(settings) => generate::generate(&settings),

@@ -206,8 +206,12 @@ pub struct BenchPhysicsSettings {
     pub scenario: Option<Scenario>,
     /// Where to write the SVG plot.
     pub svg: Option<PathBuf>,
-    /// Time steps to sweep, s (`None`: the default sweep).
-    pub steps: Option<Vec<f64>>,
+    /// Values to sweep, by the option that gave them (`--dt`, `--grid-spacing`); empty: the
+    /// simulator's own sweep.
+    pub sweep: Vec<(&'static str, Vec<f64>)>,
+    /// Videos the cases are built from, for simulators that need scenes (empty: the
+    /// scenario's demo video).
+    pub videos: Vec<PathBuf>,
 }
 
 /// `bench llm` settings.

@@ -650,10 +650,27 @@ impl Cli {
                 scenario,
                 svg,
                 steps,
+                grid_spacing,
+                particles_per_cell,
+                emitter_shift,
+                videos,
             })) => Request::BenchPhysics(BenchPhysicsSettings {
                 scenario,
                 svg,
-                steps,
+                sweep: [
+                    ("--dt", steps),
+                    ("--grid-spacing", grid_spacing),
+                    (
+                        "--particles-per-cell",
+                        particles_per_cell
+                            .map(|counts| counts.into_iter().map(f64::from).collect()),
+                    ),
+                    ("--emitter-shift", emitter_shift),
+                ]
+                .into_iter()
+                .filter_map(|(flag, values)| values.map(|values| (flag, values)))
+                .collect(),
+                videos,
             }),
             Some(Command::Perception(PerceptionCommand::FitColors {
                 data,

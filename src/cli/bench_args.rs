@@ -34,9 +34,31 @@ pub enum BenchCommand {
         /// Also write the plot of error against run time here.
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
-        /// Time steps to sweep, s (comma-separated; default 0.02 down to 0.0001).
+        /// Time steps to sweep, s (comma-separated; rope default 0.02 down to 0.0001).
         #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
         steps: Option<Vec<f64>>,
+        /// Grid spacings to sweep, scene units (comma-separated; fluid).
+        #[arg(long = "grid-spacing", value_name = "DX,...", value_delimiter = ',')]
+        grid_spacing: Option<Vec<f64>>,
+        /// Particles per cell along each axis to sweep (comma-separated; fluid).
+        #[arg(
+            long = "particles-per-cell",
+            value_name = "N,...",
+            value_delimiter = ','
+        )]
+        particles_per_cell: Option<Vec<u32>>,
+        /// Shifts of every emitter along x to sweep, scene units (comma-separated; fluid: a
+        /// shift at the reference's resolution measures the flow's chaos).
+        #[arg(
+            long = "emitter-shift",
+            value_name = "UNITS,...",
+            value_delimiter = ',',
+            allow_negative_numbers = true
+        )]
+        emitter_shift: Option<Vec<f64>>,
+        /// A video the cases are built from (repeatable; fluid; default: the demo video).
+        #[arg(long = "video", value_name = "DIR")]
+        videos: Vec<PathBuf>,
     },
     /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
     /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle

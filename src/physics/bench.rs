@@ -1,29 +1,43 @@
-//! What a simulator brings to `bench physics`: cases with a known answer (a closed form, or none
-//! and a run at a much finer step as the reference), each run at a given step and compared on
-//! the quantities it reports (metres).
+//! What a simulator brings to `bench physics`: its swept resolution parameters (time step,
+//! grid spacing, particles per cell), its cases with a known answer (a closed form, or a run
+//! at a fine reference setting), each run at a sweep point and compared on the quantities it
+//! reports, grouped by error measure.
 //!
-//! Input: nothing (each simulator builds its own cases). Output: [`BenchCase`]s; the sweep over
-//! steps, the timing and the report are shared (`app`).
+//! Input: the videos a simulator's cases are built from, if it needs any (the others build
+//! their own scenes). Output: [`BenchCase`]s; the sweep, the timing and the report are shared
+//! (`app`).
+
+use std::path::PathBuf;
 
 /// Why a benchmark case could not be built or run.
 #[derive(Debug, thiserror::Error)]
 #[error("benchmark case `{case}`: {message}")]
 pub struct BenchError {
     /// The case.
-    pub case: &'static str,
+    pub case: String,
     /// What failed.
     pub message: String,
 }
 
+/// A sweep point: one value per parameter of the benchmark, in the order of
+/// [`PhysicsBench::parameters`].
+pub type SweepPoint = [f64];
+
+/// What a run reports: per error measure of [`PhysicsBench::errors`], the compared quantities.
+pub type Measured = Vec<Vec<f64>>;
+
+/// The run a case is compared against.
+pub type CaseRun = Box<dyn Fn(&SweepPoint) -> Result<Measured, BenchError>>;
+
 /// One case of a simulator's error-against-run-time benchmark.
 pub struct BenchCase {
-    /// Its name (`atwood_with_pulley_inertia`).
-    pub name: &'static str,
-    /// The compared quantities at the end of the run by closed form, m; `None` when the case
-    /// has none (a run at a step ten times finer than the finest swept is the reference).
-    pub exact: Option<Vec<f64>>,
-    /// Runs the case for the benchmark's duration at step `dt` (s): the compared quantities, m.
-    pub run: Box<dyn Fn(f64) -> Result<Vec<f64>, BenchError>>,
+    /// Its name (`atwood_with_pulley_inertia`, `fluid_slides/0 factual`).
+    pub name: String,
+    /// The compared quantities by closed form; `None` when the case has none (a run at
+    /// [`PhysicsBench::reference`] is the reference).
+    pub exact: Option<Measured>,
+    /// Runs the case at a sweep point: the compared quantities.
+    pub run: CaseRun,
 }
 
 impl std::fmt::Debug for BenchCase {
@@ -36,19 +50,74 @@ impl std::fmt::Debug for BenchCase {
     }
 }
 
+/// A swept parameter.
+#[derive(Debug, Clone, Copy)]
+pub struct Parameter {
+    /// Its key in the report (`dt_s`, `grid_spacing`).
+    pub key: &'static str,
+    /// The `bench physics` option that sets its values (`--dt`).
+    pub flag: &'static str,
+    /// Its short name in the plot's point labels (`dt`, `dx`).
+    pub label: &'static str,
+}
+
+/// The setting cases without a closed form are compared against.
+#[derive(Debug, Clone, Copy)]
+pub enum Reference {
+    /// The first parameter at a tenth of the smallest value swept, the others at their
+    /// default (time steps: the error of a first-order method then falls tenfold).
+    TenfoldFiner,
+    /// This point, finer than any swept.
+    Point(&'static [f64]),
+}
+
 /// A simulator's benchmark.
 #[derive(Debug, Clone, Copy)]
 pub struct PhysicsBench {
     /// Simulated time per run, s.
     pub duration: f64,
-    /// The steps swept by default, s.
-    pub steps: &'static [f64],
-    /// The step `--dynamics simulate` uses, s; the sweep shows its error.
-    pub default_dt: f64,
-    /// What the error measures, as the report's key (`max_height_error_m`).
-    pub error: &'static str,
+    /// The swept parameters.
+    pub parameters: &'static [Parameter],
+    /// The points swept by default.
+    pub sweep: &'static [&'static [f64]],
+    /// The point `--dynamics simulate` uses; the sweep shows its error.
+    pub default: &'static [f64],
+    /// What cases without a closed form are compared against.
+    pub reference: Reference,
+    /// The error measures, as the report's keys (`max_height_error_m`), each the largest
+    /// difference of its quantities from the reference.
+    pub errors: &'static [&'static str],
+    /// The plot's error axis (`largest error, m`).
+    pub error_axis: &'static str,
+    /// The largest error the default point should show, if the simulator states one.
+    pub tolerance: Option<f64>,
+    /// Timed runs per point; the best is reported (runs are deterministic, so every repeat
+    /// gives the same quantities).
+    pub repeats: usize,
     /// What the plot's title calls the simulator (`rope simulator`).
     pub title: &'static str,
-    /// Builds the cases.
-    pub cases: fn() -> Result<Vec<BenchCase>, BenchError>,
+    /// Whether the cases are built from videos (`--video`), else from nothing.
+    pub uses_videos: bool,
+    /// Builds the cases, from `videos` when [`PhysicsBench::uses_videos`].
+    pub cases: fn(&[PathBuf]) -> Result<Vec<BenchCase>, BenchError>,
+}
+
+impl PhysicsBench {
+    /// The reference point for `sweep`.
+    pub fn reference_point(&self, sweep: &[Vec<f64>]) -> Vec<f64> {
+        match self.reference {
+            Reference::Point(point) => point.to_vec(),
+            Reference::TenfoldFiner => {
+                let finest = sweep
+                    .iter()
+                    .filter_map(|point| point.first().copied())
+                    .fold(f64::INFINITY, f64::min);
+                let mut point = self.default.to_vec();
+                if let Some(first) = point.first_mut() {
+                    *first = finest / 10.0;
+                }
+                point
+            }
+        }
+    }
 }

@@ -111,7 +111,7 @@ static TABLE: [ScenarioParts; 4] = [
         perception: None,
         reading_check: None,
         inference_bench: Some(scene_api::fluid::infer::inference_report),
-        physics_bench: None,
+        physics_bench: Some(&scene_api::fluid::physics_bench::BENCH),
     },
     ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),
     ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY),

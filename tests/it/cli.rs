@@ -169,7 +169,7 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
     );
     assert!(output.status.success(), "{}", stderr(&output));
     let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
-    let default_dt = report["default_dt_s"].as_f64().unwrap();
+    let default_dt = report["default"]["dt_s"].as_f64().unwrap();
     for case in report["cases"].as_array().unwrap() {
         let sweep = case["sweep"].as_array().unwrap();
         let errors: Vec<(f64, f64)> = sweep
@@ -196,18 +196,34 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
         assert!(
             at_default < 5e-3,
             "{}: {at_default} m at the default step",
-            case["mechanism"]
+            case["case"]
         );
     }
     let plot = fs_err::read_to_string(&svg).unwrap();
     assert!(plot.starts_with("<svg") && plot.matches("<polyline").count() == 4);
-    let output = contphy(&root(), &["bench", "physics", "--scenario", "fluid"]);
-    assert_eq!(output.status.code(), Some(1));
-    assert!(
-        stderr(&output).contains("no simulator for scenario `fluid` yet (simulators: rope)"),
-        "{}",
-        stderr(&output)
-    );
+}
+
+#[test]
+fn bench_physics_errors_name_the_simulator_and_the_option() {
+    let cases: [&[&str]; 5] = [
+        &["--scenario", "cloth"],
+        &["--scenario", "fluid", "--dt", "0.01"],
+        &["--scenario", "rope", "--video", "eval/demo/pulley_group/0"],
+        &["--scenario", "fluid", "--grid-spacing", "0"],
+        &["--scenario", "fluid", "--video", "no/such/video"],
+    ];
+    let mut transcript = String::new();
+    for arguments in cases {
+        let output = contphy(&root(), &[&["bench", "physics"][..], arguments].concat());
+        assert_eq!(output.status.code(), Some(1), "{arguments:?}");
+        let _ = writeln!(
+            transcript,
+            "## {}\n{}",
+            arguments.join(" "),
+            stderr(&output)
+        );
+    }
+    insta::assert_snapshot!("bench_physics_errors", transcript);
 }
 
 #[test]

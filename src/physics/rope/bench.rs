@@ -6,7 +6,9 @@
 //! swept. Error: the largest difference of any body's height from the reference at the end, m.
 
 use super::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError};
-use crate::physics::bench::{BenchCase, BenchError, PhysicsBench};
+use std::path::PathBuf;
+
+use crate::physics::bench::{BenchCase, BenchError, Parameter, PhysicsBench, Reference};
 
 /// Simulated time per run, s.
 const DURATION: f64 = 1.0;
@@ -14,16 +16,35 @@ const DURATION: f64 = 1.0;
 /// The rope simulator's benchmark.
 pub const BENCH: PhysicsBench = PhysicsBench {
     duration: DURATION,
-    steps: &[2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4],
-    default_dt: 1e-3,
-    error: "max_height_error_m",
+    parameters: &[Parameter {
+        key: "dt_s",
+        flag: "--dt",
+        label: "dt",
+    }],
+    sweep: &[
+        &[2e-2],
+        &[1e-2],
+        &[5e-3],
+        &[2e-3],
+        &[1e-3],
+        &[5e-4],
+        &[2e-4],
+        &[1e-4],
+    ],
+    default: &[1e-3],
+    reference: Reference::TenfoldFiner,
+    errors: &["max_height_error_m"],
+    error_axis: "largest error, m",
+    tolerance: None,
+    repeats: 3,
     title: "rope simulator",
+    uses_videos: false,
     cases,
 };
 
-fn failed(case: &'static str, error: &SimulationError) -> BenchError {
+fn failed(case: &str, error: &SimulationError) -> BenchError {
     BenchError {
-        case,
+        case: case.to_string(),
         message: error.to_string(),
     }
 }
@@ -31,14 +52,15 @@ fn failed(case: &'static str, error: &SimulationError) -> BenchError {
 /// A case running `mechanism` for [`DURATION`]: the bodies' end heights.
 fn case(name: &'static str, mechanism: Mechanism, exact: Option<Vec<f64>>) -> BenchCase {
     BenchCase {
-        name,
-        exact,
-        run: Box::new(move |dt| {
+        name: name.to_string(),
+        exact: exact.map(|heights| vec![heights]),
+        run: Box::new(move |point| {
+            let dt = point.first().copied().unwrap_or(f64::NAN);
             let mut state = mechanism.initial_state();
             mechanism
                 .run(&mut state, DURATION, dt)
                 .map_err(|error| failed(name, &error))?;
-            Ok(state.y)
+            Ok(vec![state.y])
         }),
     }
 }
@@ -62,7 +84,7 @@ fn pulley(name: &str, radius: f64, inertia: f64, mount: Mount) -> Pulley {
     }
 }
 
-fn cases() -> Result<Vec<BenchCase>, BenchError> {
+fn cases(_videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     let radius = 0.5;
     // Atwood: a = g (m2 − m1) / (m1 + m2 + I/R²).
     let (m1, m2, inertia) = (0.25, 0.15, 0.02);

@@ -37,6 +37,7 @@
 
 mod events;
 pub(crate) mod infer;
+pub(crate) mod physics_bench;
 mod runs;
 pub mod simulate;
 

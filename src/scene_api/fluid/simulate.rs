@@ -54,7 +54,7 @@ pub const EMITTER_SPEED: f64 = 0.7;
 const EMITTER_HEIGHT: f64 = 0.25;
 /// Inner faces of the tank: x = ±2.7, the floor's top at y = −4.0; nothing rises above y = 3.2
 /// (the emitters sit at 2.85, the ceiling, which does not collide, at 3.1).
-const TANK_INNER: [[f64; 2]; 2] = [[-2.7, -4.0], [2.7, 3.2]];
+pub(crate) const TANK_INNER: [[f64; 2]; 2] = [[-2.7, -4.0], [2.7, 3.2]];
 /// Coulomb friction of every collider against the fluid.
 const COLLIDER_FRICTION: f64 = 0.3;
 /// Grid nodes of the domain walls on each side (the tank's walls).
@@ -221,8 +221,10 @@ pub struct FluidMaterialGuess {
 /// Resolution and material constants of the simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSettings {
-    /// Grid spacing, units; particles are laid at half of it (four per cell).
+    /// Grid spacing, units.
     pub grid_spacing: f64,
+    /// Particles laid per cell along each axis (2: four per cell, spacing half the grid's).
+    pub particles_per_cell_side: u32,
     /// Sound speed of every fluid, units/s: ten times the fastest flow would be incompressible
     /// to 1%; a fraction of that is the usual weakly compressible compromise.
     pub sound_speed: f64,
@@ -230,9 +232,15 @@ pub struct RunSettings {
     pub thin_viscosity: f64,
     /// Kinematic viscosity of a `Sticky` fluid, units²/s.
     pub sticky_viscosity: f64,
-    /// A particle touches a collider when its centre is this close to the surface, in grid
-    /// spacings.
+    /// A particle touches a collider when its centre is this close to the surface, units (at
+    /// least 0.75 grid spacings: MPM keeps fluid about half a cell off a collider, so a shorter
+    /// reach would miss fluid lying on it). A fixed reach makes "touched" a layer of fluid of
+    /// one thickness at every resolution, as the release's contacts are (its particles have one
+    /// radius); a reach in grid spacings made the share that touches a stick shrink with the
+    /// grid (`bench physics --scenario fluid`).
     pub contact_reach: f64,
+    /// Coulomb friction of every collider against the fluid.
+    pub collider_friction: f64,
     /// Solver threads.
     pub threads: usize,
 }
@@ -241,10 +249,12 @@ impl Default for RunSettings {
     fn default() -> Self {
         RunSettings {
             grid_spacing: 0.05,
+            particles_per_cell_side: 2,
             sound_speed: 20.0,
             thin_viscosity: 1e-4,
             sticky_viscosity: 0.05,
-            contact_reach: 0.75,
+            contact_reach: 0.0375,
+            collider_friction: COLLIDER_FRICTION,
             threads: 1,
         }
     }
@@ -280,6 +290,32 @@ pub fn simulate(
     kind: RunKind<'_>,
     settings: &RunSettings,
 ) -> Result<SimulatedRun, MpmError> {
+    simulate_observed(
+        geometry,
+        receptors,
+        materials,
+        kind,
+        settings,
+        &mut |_, _| {},
+    )
+}
+
+/// The particles after an update: state, emitter index (into the run's emitters: first ones,
+/// then later ones, as listed) and mass, indexed by id.
+pub type Particles = [(ParticleState, usize, f64)];
+
+/// [`simulate`], showing `observe` the particles after every update (numbered from 1).
+///
+/// # Errors
+/// As [`simulate`].
+pub fn simulate_observed(
+    geometry: &FluidGeometry,
+    receptors: &[Receptor<'_>],
+    materials: &IndexMap<String, FluidMaterialGuess>,
+    kind: RunKind<'_>,
+    settings: &RunSettings,
+    observe: &mut dyn FnMut(u32, &Particles),
+) -> Result<SimulatedRun, MpmError> {
     let removed = match kind {
         RunKind::Factual => None,
         RunKind::Without(stick) => Some(stick),
@@ -299,15 +335,17 @@ pub fn simulate(
         RunKind::Factual => FACTUAL_UPDATES,
         RunKind::Without(_) => COUNTERFACTUAL_UPDATES,
     };
-    let contacts = ContactMap::new(&colliders, settings.contact_reach * settings.grid_spacing);
+    let reach = settings.contact_reach.max(0.75 * settings.grid_spacing);
+    let contacts = ContactMap::new(&colliders, reach);
     let mut touched: Vec<u64> = Vec::new();
-    for _ in 0..updates {
+    for update in 1..=updates {
         solver.advance(UPDATE_SECONDS)?;
         let particles = solver.particles_by_id();
         touched.resize(particles.len(), 0);
         for (bits, (state, _, _)) in touched.iter_mut().zip(&particles) {
             *bits |= contacts.touching(state.position);
         }
+        observe(update, &particles);
     }
     let particles = solver.particles_by_id();
     let tracking = label(
@@ -317,7 +355,7 @@ pub fn simulate(
         materials,
         &particles,
         &touched,
-        settings.grid_spacing,
+        emitter_budget(settings),
     );
     Ok(SimulatedRun {
         tracking,
@@ -347,6 +385,11 @@ fn build_solver(
         return Err(MpmError::InvalidGrid(format!(
             "fluid grid spacing {dx} is not positive and finite"
         )));
+    }
+    if settings.particles_per_cell_side == 0 {
+        return Err(MpmError::InvalidGrid(
+            "fluid particles per cell side is 0".to_string(),
+        ));
     }
     // Node `WALL_NODES` lies on each inner face of the tank.
     let walls = WALL_NODES as f64 * dx;
@@ -384,7 +427,15 @@ fn build_solver(
             viscosity: guess.density * viscosity,
         }));
     }
-    let mpm_colliders: Vec<Collider> = colliders.iter().map(|c| c.capsule()).collect();
+    let mpm_colliders: Vec<Collider> = colliders
+        .iter()
+        .map(|c| Collider {
+            boundary: Boundary::Separate {
+                friction: settings.collider_friction,
+            },
+            ..c.capsule()
+        })
+        .collect();
     let mpm_settings = Settings {
         gravity: [0.0, -GRAVITY],
         threads: settings.threads,
@@ -405,9 +456,9 @@ fn build_solver(
             [0.0, -1.0],
             emitter.width,
             EMITTER_SPEED,
-            0.5 * dx,
+            particle_spacing(settings),
             (start, f64::INFINITY),
-            emitter_budget(dx),
+            emitter_budget(settings),
         ))?;
     }
     Ok(solver)
@@ -416,10 +467,14 @@ fn build_solver(
 /// The release's particle spacing, units (Obi resolution 40).
 const RELEASE_SPACING: f64 = 1.0 / 40.0;
 
-/// Particles an emitter releases at grid spacing `dx`: the release's volume in particles of
-/// spacing `dx / 2`.
-fn emitter_budget(dx: f64) -> usize {
-    let ratio = RELEASE_SPACING / (0.5 * dx);
+/// Spacing of the particles an emitter lays, units.
+fn particle_spacing(settings: &RunSettings) -> f64 {
+    settings.grid_spacing / f64::from(settings.particles_per_cell_side.max(1))
+}
+
+/// Particles an emitter releases: the release's volume in particles of our spacing.
+pub(crate) fn emitter_budget(settings: &RunSettings) -> usize {
+    let ratio = RELEASE_SPACING / particle_spacing(settings);
     #[expect(
         clippy::cast_possible_truncation,
         clippy::cast_sign_loss,
@@ -540,7 +595,7 @@ fn label(
     materials: &IndexMap<String, FluidMaterialGuess>,
     particles: &[(ParticleState, usize, f64)],
     touched: &[u64],
-    grid_spacing: f64,
+    budget: usize,
 ) -> FluidTracking {
     let mut paths: Vec<Vec<Vec<&str>>> = vec![Vec::new(); emitters.len()];
     let mut finals: Vec<Vec<[f64; 2]>> = vec![Vec::new(); emitters.len()];
@@ -550,7 +605,6 @@ fn label(
             list.push(index);
         }
     }
-    let budget = emitter_budget(grid_spacing);
     let chosen = by_emitter.iter().flat_map(|indices| {
         // The release's count for the share of the budget this emitter released.
         #[expect(
@@ -710,9 +764,18 @@ mod tests {
 
     #[test]
     fn emitters_release_the_release_volume_and_counts_resample_evenly() {
-        assert_eq!(emitter_budget(0.05), 1500);
-        assert_eq!(emitter_budget(0.1), 375);
-        assert_eq!(emitter_budget(0.025), 6000);
+        let at = |grid_spacing, particles_per_cell_side| {
+            emitter_budget(&RunSettings {
+                grid_spacing,
+                particles_per_cell_side,
+                ..RunSettings::default()
+            })
+        };
+        assert_eq!(at(0.05, 2), 1500);
+        assert_eq!(at(0.1, 2), 375);
+        assert_eq!(at(0.025, 2), 6000);
+        assert_eq!(at(0.05, 3), 3375);
+        assert_eq!(at(0.05, 1), 375);
         assert_eq!(
             resample(375, 1500).take(5).collect::<Vec<_>>(),
             [0, 0, 0, 0, 1]
