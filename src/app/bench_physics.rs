@@ -21,22 +21,124 @@ use serde_json::{Map, Value, json};
 use super::bench::print_report;
 use super::error::{AppError, Classify as _, user_error};
 use super::settings::BenchPhysicsSettings;
-use crate::physics::bench::{BenchCase, Measured, PhysicsBench};
+use crate::physics::bench::{
+    BenchCase, CaseOutput, ErrorMeasure, Measured, PhysicsBench, Reduction,
+};
 use crate::scenarios;
 
 /// One case's sweep for the plot: its name and `(point, largest error, run time ms)` per point.
 type Series = (String, Vec<(Vec<f64>, f64, f64)>);
 
-/// The quantities of `case` at `point`, and the wall time, ms.
-fn simulate(case: &BenchCase, point: &[f64]) -> Result<(Measured, f64), AppError> {
+/// What `case` gives at `point`, and the wall time, ms.
+fn simulate(case: &BenchCase, point: &[f64]) -> Result<(CaseOutput, f64), AppError> {
     let started = Instant::now();
-    let quantities = (case.run)(point).user()?;
-    Ok((quantities, started.elapsed().as_secs_f64() * 1e3))
+    let output = (case.run)(point).user()?;
+    Ok((output, started.elapsed().as_secs_f64() * 1e3))
 }
 
-/// Per error measure, the largest difference of `measured` from `reference`; a quantity
-/// missing on one side counts as infinitely wrong.
-fn errors(measured: &Measured, reference: &Measured) -> Vec<f64> {
+/// The default point's largest error and its cost against the references', summed over the
+/// cases.
+#[derive(Debug, Default)]
+struct DefaultTotals {
+    error: f64,
+    /// Per measure, the largest error over the cases.
+    measures: Vec<f64>,
+    ms: f64,
+    reference_ms: f64,
+    work: u64,
+    reference_work: u64,
+}
+
+/// One case over the sweep: its report and its plot series; adds the default point's figures
+/// to `totals`. Progress goes to stderr.
+fn sweep_case(
+    bench: &PhysicsBench,
+    case: &BenchCase,
+    points: &[Vec<f64>],
+    reference_point: &[f64],
+    totals: &mut DefaultTotals,
+) -> Result<(Value, Series), AppError> {
+    let mut progress = std::io::stderr().lock();
+    let (reference, reference_kind, reference_run) = if let Some(exact) = &case.exact {
+        (exact.clone(), "closed form".to_string(), None)
+    } else {
+        let words = point_words(bench, reference_point);
+        let _ = write!(progress, "{}: reference ({words})... ", case.name);
+        let (output, ms) = simulate(case, reference_point)?;
+        let _ = writeln!(progress, "{:.1} s", ms / 1e3);
+        (output.quantities, words, Some((ms, output.work)))
+    };
+    let mut points_out = Vec::new();
+    let mut rows = Vec::new();
+    for point in points {
+        let _ = write!(progress, "{}: {}... ", case.name, point_words(bench, point));
+        let mut best = f64::INFINITY;
+        let mut output = None;
+        for _ in 0..bench.repeats.max(1) {
+            let (run, ms) = simulate(case, point)?;
+            best = best.min(ms);
+            output = Some(run);
+        }
+        let _ = writeln!(progress, "{:.1} s", best / 1e3);
+        let (quantities, work) = output.map_or((Vec::new(), None), |o| (o.quantities, o.work));
+        let case_errors = errors(bench.errors, &quantities, &reference);
+        // The plotted error: the largest of the plotted measures.
+        let largest = case_errors
+            .iter()
+            .zip(bench.errors)
+            .filter(|(_, measure)| measure.plotted)
+            .map(|(error, _)| *error)
+            .fold(0.0_f64, f64::max);
+        let mut row = point_json(bench, point);
+        for (measure, error) in bench.errors.iter().zip(&case_errors) {
+            row.insert(measure.key.to_string(), json!(error));
+        }
+        row.insert("run_time_ms".into(), json!(best));
+        if let Some(work) = work {
+            row.insert("work".into(), json!(work));
+        }
+        if let Some((reference_ms, reference_work)) = reference_run {
+            row.insert("run_time_share".into(), json!(best / reference_ms));
+            if let (Some(work), Some(reference_work)) = (work, reference_work) {
+                row.insert(
+                    "work_share".into(),
+                    json!(work as f64 / reference_work.max(1) as f64),
+                );
+            }
+        }
+        if point.as_slice() == bench.default {
+            totals.error = totals.error.max(largest);
+            totals.measures.resize(case_errors.len(), 0.0);
+            for (total, error) in totals.measures.iter_mut().zip(&case_errors) {
+                *total = total.max(*error);
+            }
+            totals.ms += best;
+            totals.work += work.unwrap_or(0);
+            if let Some((reference_ms, reference_work)) = reference_run {
+                totals.reference_ms += reference_ms;
+                totals.reference_work += reference_work.unwrap_or(0);
+            }
+        }
+        points_out.push((point.clone(), largest, best));
+        rows.push(Value::Object(row));
+    }
+    let mut case_report = Map::new();
+    case_report.insert("case".into(), json!(case.name));
+    case_report.insert("reference".into(), json!(reference_kind));
+    if let Some((reference_ms, reference_work)) = reference_run {
+        case_report.insert("reference_run_time_ms".into(), json!(reference_ms));
+        if let Some(work) = reference_work {
+            case_report.insert("reference_work".into(), json!(work));
+        }
+    }
+    case_report.insert("sweep".into(), Value::Array(rows));
+    Ok((Value::Object(case_report), (case.name.clone(), points_out)))
+}
+
+/// Per error measure, the differences of `measured` from `reference` reduced as the measure
+/// says (the largest, or the mean; none differ: 0); a quantity missing on one side counts as
+/// infinitely wrong.
+fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) -> Vec<f64> {
     reference
         .iter()
         .enumerate()
@@ -47,10 +149,14 @@ fn errors(measured: &Measured, reference: &Measured) -> Vec<f64> {
             if got.len() != expected.len() {
                 return f64::INFINITY;
             }
-            got.iter()
-                .zip(expected)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0_f64, f64::max)
+            let differences = got.iter().zip(expected).map(|(a, b)| (a - b).abs());
+            match measures
+                .get(index)
+                .map_or(Reduction::Largest, |m| m.reduction)
+            {
+                Reduction::Largest => differences.fold(0.0_f64, f64::max),
+                Reduction::Mean => differences.sum::<f64>() / expected.len().max(1) as f64,
+            }
         })
         .collect()
 }
@@ -179,81 +285,43 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
         )));
     };
     let reference_point = bench.reference_point(&points);
-    let mut progress = std::io::stderr().lock();
     let mut report_cases = Vec::new();
     let mut series: Vec<Series> = Vec::new();
-    let (mut default_error, mut default_ms, mut reference_ms_total) = (0.0_f64, 0.0, 0.0);
+    let mut totals = DefaultTotals::default();
     for case in (bench.cases)(&videos).user()? {
-        let (reference, reference_kind, reference_ms) = if let Some(exact) = &case.exact {
-            (exact.clone(), "closed form".to_string(), None)
-        } else {
-            let _ = write!(
-                progress,
-                "{}: reference ({})... ",
-                case.name,
-                point_words(bench, &reference_point)
-            );
-            let (quantities, ms) = simulate(&case, &reference_point)?;
-            let _ = writeln!(progress, "{:.1} s", ms / 1e3);
-            (quantities, point_words(bench, &reference_point), Some(ms))
-        };
-        let mut points_out = Vec::new();
-        let mut rows = Vec::new();
-        for point in &points {
-            let _ = write!(progress, "{}: {}... ", case.name, point_words(bench, point));
-            let mut best = f64::INFINITY;
-            let mut quantities = Vec::new();
-            for _ in 0..bench.repeats.max(1) {
-                let (values, ms) = simulate(&case, point)?;
-                best = best.min(ms);
-                quantities = values;
-            }
-            let _ = writeln!(progress, "{:.1} s", best / 1e3);
-            let case_errors = errors(&quantities, &reference);
-            let largest = case_errors.iter().copied().fold(0.0_f64, f64::max);
-            let mut row = point_json(bench, point);
-            for (key, error) in bench.errors.iter().zip(&case_errors) {
-                row.insert((*key).to_string(), json!(error));
-            }
-            row.insert("run_time_ms".into(), json!(best));
-            if let Some(reference_ms) = reference_ms {
-                row.insert("run_time_share".into(), json!(best / reference_ms));
-            }
-            if point.as_slice() == bench.default {
-                default_error = default_error.max(largest);
-                default_ms += best;
-            }
-            points_out.push((point.clone(), largest, best));
-            rows.push(Value::Object(row));
-        }
-        reference_ms_total += reference_ms.unwrap_or(0.0);
-        let mut case_report = Map::new();
-        case_report.insert("case".into(), json!(case.name));
-        case_report.insert("reference".into(), json!(reference_kind));
-        if let Some(reference_ms) = reference_ms {
-            case_report.insert("reference_run_time_ms".into(), json!(reference_ms));
-        }
-        case_report.insert("sweep".into(), Value::Array(rows));
-        report_cases.push(Value::Object(case_report));
-        series.push((case.name, points_out));
+        let (case_report, case_series) =
+            sweep_case(bench, &case, &points, &reference_point, &mut totals)?;
+        report_cases.push(case_report);
+        series.push(case_series);
     }
     let mut default_summary = Map::new();
-    default_summary.insert("largest_error".into(), json!(default_error));
-    if reference_ms_total > 0.0 {
+    default_summary.insert("largest_plotted_error".into(), json!(totals.error));
+    if totals.reference_ms > 0.0 {
         default_summary.insert(
             "run_time_share_of_reference".into(),
-            json!(default_ms / reference_ms_total),
+            json!(totals.ms / totals.reference_ms),
         );
     }
-    if let Some(tolerance) = bench.tolerance {
-        default_summary.insert("tolerance".into(), json!(tolerance));
-        default_summary.insert("within_tolerance".into(), json!(default_error <= tolerance));
+    if totals.reference_work > 0 {
+        default_summary.insert(
+            "work_share_of_reference".into(),
+            json!(totals.work as f64 / totals.reference_work as f64),
+        );
+    }
+    for (measure, error) in bench.errors.iter().zip(&totals.measures) {
+        let mut entry = Map::new();
+        entry.insert("error".into(), json!(error));
+        if let Some(tolerance) = measure.tolerance {
+            entry.insert("tolerance".into(), json!(tolerance));
+            entry.insert("within_tolerance".into(), json!(*error <= tolerance));
+        }
+        default_summary.insert(measure.key.to_string(), Value::Object(entry));
     }
     let report: Value = json!({
         "scenario": scenario.name(),
         "simulated_seconds": bench.duration,
         "default": point_json(bench, bench.default),
-        "errors": bench.errors,
+        "errors": bench.errors.iter().map(|measure| measure.key).collect::<Vec<_>>(),
         "cases": report_cases,
         "default_summary": default_summary,
     });
@@ -448,15 +516,32 @@ mod tests {
     #[test]
     fn errors_are_per_measure_and_a_missing_quantity_is_infinitely_wrong() {
         let reference = vec![vec![0.5, 0.25], vec![1.0]];
-        let got = errors(&vec![vec![0.5, 0.5], vec![0.9]], &reference);
+        let measures = &scenarios::parts(Scenario::Rope)
+            .physics_bench
+            .unwrap()
+            .errors;
+        let got = errors(measures, &vec![vec![0.5, 0.5], vec![0.9]], &reference);
         assert!(
             (got[0] - 0.25).abs() < 1e-15 && (got[1] - 0.1).abs() < 1e-15,
             "{got:?}"
         );
         assert_eq!(
-            errors(&vec![vec![0.5], vec![1.0]], &reference),
+            errors(measures, &vec![vec![0.5], vec![1.0]], &reference),
             vec![f64::INFINITY, 0.0]
         );
-        assert!(errors(&vec![vec![0.5, 0.25]], &reference)[1].is_infinite());
+        assert!(errors(measures, &vec![vec![0.5, 0.25]], &reference)[1].is_infinite());
+        // A mean measure: the share of labels that differ.
+        let labels = [ErrorMeasure {
+            key: "labels",
+            reduction: Reduction::Mean,
+            tolerance: None,
+            plotted: false,
+        }];
+        let share = errors(
+            &labels,
+            &vec![vec![1.0, 0.0, 1.0, 1.0]],
+            &vec![vec![1.0, 1.0, 1.0, 0.0]],
+        );
+        assert!((share[0] - 0.5).abs() < 1e-15, "{share:?}");
     }
 }

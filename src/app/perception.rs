@@ -20,10 +20,8 @@ use super::error::{AppError, Classify as _, user_error};
 use super::prerequisites::{ModelOverrides, check_frames, model_files};
 use crate::dataset::{DataRoot, Scenario, SegmentationRecords, VideoFolder};
 use crate::perception::ScenarioPerception;
-use crate::perception::classes::ClassTable;
-use crate::perception::color::{
-    ColorModel, TrainingVideo, features, name_colors, palette_id_of_name, wall_color,
-};
+use crate::perception::classes::{Class, ClassTable};
+use crate::perception::color::{ColorModel, TrainingVideo, features, name_colors, wall_color};
 use crate::perception::detection::{Detection, InstanceMask};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::evaluation::{
@@ -32,7 +30,7 @@ use crate::perception::evaluation::{
 };
 use crate::perception::frames::{FrameSource, RgbFrame, Stream};
 use crate::perception::tracking::{TrackerConfig, track};
-use crate::perception::truth::{MP4_TOLERANCE, painted_masks};
+use crate::perception::truth::{MP4_TOLERANCE, Painted, truth_instances};
 use crate::scenarios;
 use crate::scene_api::PerceptionBackend;
 
@@ -113,40 +111,35 @@ fn selected_frames(records: &SegmentationRecords, selection: &FrameSelection) ->
         .collect()
 }
 
+/// The truth objects of a segmentation frame ([`truth_instances`]).
 fn truth_objects(
     video: &TruthVideo,
     segmentation: &RgbFrame,
     classes: &ClassTable,
 ) -> Vec<TruthInstance> {
-    let painted: Vec<(u32, [u8; 3])> = video
+    let boxes = video.records.boxes.get(&segmentation.index);
+    let painted: Vec<Painted<'_>> = video
         .records
         .frames
         .get(&segmentation.index)
         .map(|list| {
             list.iter()
-                .filter(|p| {
-                    video
-                        .records
-                        .names
-                        .get(&p.instance_id)
-                        .is_some_and(|n| classes.of_object(n).is_some())
+                .filter_map(|p| {
+                    let name = video.records.names.get(&p.instance_id)?;
+                    let bbox = boxes
+                        .and_then(|b| b.iter().find(|(id, _)| *id == p.instance_id))
+                        .map(|(_, bbox)| *bbox);
+                    Some(Painted {
+                        id: p.instance_id,
+                        color: p.color,
+                        name: name.as_str(),
+                        bbox,
+                    })
                 })
-                .map(|p| (p.instance_id, p.color))
                 .collect()
         })
         .unwrap_or_default();
-    painted_masks(segmentation, &painted, video.tolerance)
-        .into_iter()
-        .filter_map(|(instance_id, mask)| {
-            let name = video.records.names.get(&instance_id)?;
-            Some(TruthInstance {
-                instance_id,
-                class: classes.of_object(name)?,
-                color: palette_id_of_name(name),
-                mask,
-            })
-        })
-        .collect()
+    truth_instances(segmentation, &painted, classes, video.tolerance)
 }
 
 /// The scenario whose videos are used: the one given, or the one scenario with perception whose
@@ -430,8 +423,28 @@ fn score_run(run: Vec<ScoredVideo>, classes: &ClassTable) -> Result<serde_json::
             detections,
             truth,
         } = video;
-        let tracks = track(&detections, &TrackerConfig::default()).internal()?;
-        let report = id_switches(&tracks, &detections, &truth).internal()?;
+        // Identity is scored on whole objects: the pieces of a fluid have none across frames.
+        let whole = |class: Class| !classes.pieces(class);
+        let whole_detections: Vec<(usize, Vec<Detection>)> = detections
+            .iter()
+            .map(|(f, list)| {
+                (
+                    *f,
+                    list.iter().filter(|d| whole(d.class)).cloned().collect(),
+                )
+            })
+            .collect();
+        let whole_truth: Vec<(usize, Vec<TruthInstance>)> = truth
+            .iter()
+            .map(|(f, list)| {
+                (
+                    *f,
+                    list.iter().filter(|t| whole(t.class)).cloned().collect(),
+                )
+            })
+            .collect();
+        let tracks = track(&whole_detections, &TrackerConfig::default()).internal()?;
+        let report = id_switches(&tracks, &whole_detections, &whole_truth).internal()?;
         switches += report.switches;
         truth_instances += report.truth_instances;
         mostly_tracked += report.mostly_tracked;

@@ -136,6 +136,21 @@ impl CameraModel {
         ])
     }
 
+    /// The world point `(x, y)` on the plane `z = plane_z` seen at pixel `(x, y)`, if the
+    /// viewing ray meets the plane in front of the camera.
+    pub fn lift_to_plane(&self, x: f64, y: f64, plane_z: f64) -> Option<[f64; 2]> {
+        let direction = self.ray(x, y);
+        if direction[2].abs() < 1e-9 {
+            return None;
+        }
+        let distance = -(self.position[2] - plane_z) / direction[2];
+        let world = [
+            self.position[0] + distance * direction[0],
+            self.position[1] + distance * direction[1],
+        ];
+        (distance > 0.0 && world.iter().all(|v| v.is_finite())).then_some(world)
+    }
+
     /// The camera's forward axis in world.
     pub fn forward(&self) -> [f64; 3] {
         [

@@ -25,6 +25,32 @@ pub struct ClassWords {
     /// any. Colour reading chooses among these only: the release never paints a pulley black,
     /// so a dark gray pulley in dim light is gray, not black.
     pub colors: &'static [u8],
+    /// Whether an object of the class shows as separate pieces (a fluid spread over several
+    /// ramps and cups): the detector finds each connected piece, so each piece of the object's
+    /// ground-truth mask is one truth instance ([`super::truth::pieces`]).
+    pub pieces: bool,
+    /// Whether no two objects of the class share a colour (the release paints them from their
+    /// own shuffled pool), so two tracks of it read in one colour are a misreading
+    /// (`perception::distinct`).
+    pub distinct_colors: bool,
+}
+
+/// The object a ground-truth segmentation instance belongs to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TruthObject {
+    /// The object's name; instances naming one object make one truth mask (a container drawn as
+    /// its floor, walls and funnel sticks).
+    pub name: String,
+    /// Its palette colour, from the instance name's colour words.
+    pub color: Option<u8>,
+}
+
+/// Each instance its own object, coloured by its name's first words (`Light Blue Rope` → 12).
+pub fn instance_is_object(name: &str) -> TruthObject {
+    TruthObject {
+        name: name.to_string(),
+        color: super::color::palette_id_of_name(name),
+    }
 }
 
 /// A scenario's detector classes.
@@ -35,10 +61,9 @@ pub struct ScenarioClasses {
     /// The class name of a release object name (`Pink Hollow Static Pulley (0 5)` → `hollow
     /// static pulley`), for ground truth; `None` for objects that are no class (`Solver`).
     pub class_of_object: fn(&str) -> Option<&'static str>,
-    /// Whether no two objects of one class share a colour (each class draws from its own
-    /// pool), so two tracks of a class read in one colour are a misreading
-    /// (`perception::distinct`).
-    pub distinct_colors: bool,
+    /// The object a release segmentation instance is part of, with its colour, for ground
+    /// truth ([`instance_is_object`] when every instance is an object).
+    pub truth_object: fn(&str) -> TruthObject,
 }
 
 impl ScenarioClasses {
@@ -265,9 +290,9 @@ impl ClassTable {
             .map(|(_, value)| *value)
     }
 
-    /// Whether no two objects of one class share a colour.
-    pub fn distinct_colors_within_class(&self) -> bool {
-        self.scenario.distinct_colors
+    /// Whether no two objects of `class` share a colour ([`ClassWords::distinct_colors`]).
+    pub fn distinct_colors(&self, class: Class) -> bool {
+        self.words(class).is_some_and(|words| words.distinct_colors)
     }
 
     /// The palette ids objects of `class` can have; empty when any.
@@ -286,6 +311,16 @@ impl ClassTable {
             }
         }
         names
+    }
+
+    /// Whether objects of `class` are found piece by piece ([`ClassWords::pieces`]).
+    pub fn pieces(&self, class: Class) -> bool {
+        self.words(class).is_some_and(|words| words.pieces)
+    }
+
+    /// The object a release segmentation instance is part of, with its colour (ground truth).
+    pub fn truth_object(&self, instance_name: &str) -> TruthObject {
+        (self.scenario.truth_object)(instance_name)
     }
 
     /// The class of a release object name, when the model has it (ground truth).
@@ -308,18 +343,24 @@ mod tests {
             kind: "cube",
             attributes: &[],
             colors: &[],
+            pieces: false,
+            distinct_colors: false,
         },
         ClassWords {
             name: "solid pulley",
             kind: "pulley",
             attributes: &[("shape", "solid")],
             colors: &[],
+            pieces: false,
+            distinct_colors: false,
         },
         ClassWords {
             name: "hollow pulley",
             kind: "pulley",
             attributes: &[("shape", "hollow")],
             colors: &[],
+            pieces: false,
+            distinct_colors: false,
         },
     ];
 
@@ -330,7 +371,7 @@ mod tests {
     const SCENARIO: ScenarioClasses = ScenarioClasses {
         classes: &WORDS,
         class_of_object: object_class,
-        distinct_colors: false,
+        truth_object: instance_is_object,
     };
 
     #[test]

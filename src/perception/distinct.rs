@@ -16,8 +16,8 @@ use super::detection::{Detection, InstanceMask};
 use super::frames::RgbFrame;
 use super::tracking::Track;
 
-/// Gives the tracks of each class distinct colours when `table`'s scenario says a class's
-/// objects never share one. Tracks sharing a colour are ranked by how many colour-model votes
+/// Gives the tracks of each class distinct colours when `table` says the class's objects never
+/// share one. Tracks sharing a colour are ranked by how many colour-model votes
 /// that colour got over their observations; the first keeps it, each other one takes the
 /// colour with most votes among those its class can have that no other track of its class
 /// holds (it keeps the shared colour when its pixels name no such colour). Frames missing from
@@ -29,10 +29,10 @@ pub fn separate_class_colors(
     model: &ColorModel,
     table: &ClassTable,
 ) {
-    if !table.distinct_colors_within_class() {
-        return;
-    }
-    let collisions = colliding_groups(tracks);
+    let collisions: Vec<(Class, u8, Vec<usize>)> = colliding_groups(tracks)
+        .into_iter()
+        .filter(|(class, _, _)| table.distinct_colors(*class))
+        .collect();
     if collisions.is_empty() {
         return;
     }
@@ -127,10 +127,20 @@ fn colliding_groups(tracks: &[Track]) -> Vec<(Class, u8, Vec<usize>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::perception::classes::ClassTable;
+    use crate::perception::classes::{ClassTable, ClassWords};
     use crate::perception::color::ColorModel;
     use crate::perception::rope::{PERCEPTION, test_class};
     use crate::perception::tracking::{TrackerConfig, track};
+
+    /// Rope's cube as a class whose objects may share a colour.
+    static SHARED: [ClassWords; 1] = [ClassWords {
+        name: "cube",
+        kind: "cube",
+        attributes: &[],
+        colors: &[],
+        pieces: false,
+        distinct_colors: false,
+    }];
 
     const RED: u8 = 0;
     const PINK: u8 = 7;
@@ -213,10 +223,10 @@ mod tests {
             .unwrap();
         assert_eq!((left.color, right.color), (Some(RED), Some(PINK)));
 
-        // A scenario whose classes may share colours keeps both red.
+        // A class whose objects may share colours keeps both red.
         let mut shared = track(&detections, &TrackerConfig::default()).unwrap();
         let mut scenario = PERCEPTION.classes;
-        scenario.distinct_colors = false;
+        scenario.classes = &SHARED;
         let table = ClassTable::of_scenario(scenario);
         separate_class_colors(&mut shared, &detections, &images, &model, &table);
         assert!(shared.iter().all(|t| t.color == Some(RED)));

@@ -32,6 +32,7 @@ pub mod detection;
 pub mod detector;
 pub mod distinct;
 pub mod evaluation;
+pub mod fluid;
 pub mod frames;
 pub mod palette;
 pub mod rope;

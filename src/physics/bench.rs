@@ -26,8 +26,19 @@ pub type SweepPoint = [f64];
 /// What a run reports: per error measure of [`PhysicsBench::errors`], the compared quantities.
 pub type Measured = Vec<Vec<f64>>;
 
-/// The run a case is compared against.
-pub type CaseRun = Box<dyn Fn(&SweepPoint) -> Result<Measured, BenchError>>;
+/// What one run of a case gives: its compared quantities, and the work it took where the
+/// simulator counts it (particle substeps: a cost that, unlike wall time, a loaded machine
+/// does not disturb).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseOutput {
+    /// Per error measure, the compared quantities.
+    pub quantities: Measured,
+    /// The simulator's count of its work, if it keeps one.
+    pub work: Option<u64>,
+}
+
+/// Runs a case at a sweep point.
+pub type CaseRun = Box<dyn Fn(&SweepPoint) -> Result<CaseOutput, BenchError>>;
 
 /// One case of a simulator's error-against-run-time benchmark.
 pub struct BenchCase {
@@ -71,6 +82,28 @@ pub enum Reference {
     Point(&'static [f64]),
 }
 
+/// How a measure's differences from the reference make one error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reduction {
+    /// The largest absolute difference.
+    Largest,
+    /// The mean absolute difference (of 0/1 labels: the share that differ).
+    Mean,
+}
+
+/// One error measure of a benchmark.
+#[derive(Debug, Clone, Copy)]
+pub struct ErrorMeasure {
+    /// Its key in the report (`max_height_error_m`).
+    pub key: &'static str,
+    /// How its quantities' differences reduce to one error.
+    pub reduction: Reduction,
+    /// The error the default point should stay within, if the simulator states one.
+    pub tolerance: Option<f64>,
+    /// Whether the plot shows it.
+    pub plotted: bool,
+}
+
 /// A simulator's benchmark.
 #[derive(Debug, Clone, Copy)]
 pub struct PhysicsBench {
@@ -84,13 +117,11 @@ pub struct PhysicsBench {
     pub default: &'static [f64],
     /// What cases without a closed form are compared against.
     pub reference: Reference,
-    /// The error measures, as the report's keys (`max_height_error_m`), each the largest
-    /// difference of its quantities from the reference.
-    pub errors: &'static [&'static str],
-    /// The plot's error axis (`largest error, m`).
+    /// The error measures, in the order of the quantities a run reports.
+    pub errors: &'static [ErrorMeasure],
+    /// The plot's error axis (`largest error, m`): the largest error of the measures
+    /// [`ErrorMeasure::plotted`].
     pub error_axis: &'static str,
-    /// The largest error the default point should show, if the simulator states one.
-    pub tolerance: Option<f64>,
     /// Timed runs per point; the best is reported (runs are deterministic, so every repeat
     /// gives the same quantities).
     pub repeats: usize,

@@ -287,6 +287,18 @@ impl Perceiver {
         Ok(scene)
     }
 
+    /// The detections (with colours) of `frames`, in order, untracked: the first pass runs
+    /// first and its detections are reused; frames the video lacks are left out.
+    pub fn detections(&mut self, frames: &[usize]) -> Result<FrameDetections, ApiError> {
+        self.first_pass()?;
+        let wanted: Vec<usize> = frames
+            .iter()
+            .copied()
+            .filter(|f| *f < self.info.frame_count)
+            .collect();
+        Ok(self.detect(&wanted, false)?.0)
+    }
+
     /// The tracks of every frame of the video, each with the name of the first-pass track it
     /// shares most detections with (the first pass's detections are reused, so they coincide);
     /// tracks that stand for no named object are left out.

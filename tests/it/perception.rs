@@ -203,19 +203,26 @@ fn bench_perception_fails_with_one_clear_line_for_each_bad_input() {
     let cases: Vec<(&str, Vec<&str>, Option<&Path>, i32)> = vec![
         (
             "runtime_missing",
-            vec!["--data", demo, "--model", tiny],
+            vec!["--data", demo, "--scenario", "rope", "--model", tiny],
             Some(&missing_library),
             1,
         ),
         (
             "runtime_not_a_library",
-            vec!["--data", demo, "--model", tiny],
+            vec!["--data", demo, "--scenario", "rope", "--model", tiny],
             Some(&not_a_library),
             1,
         ),
         (
             "model_corrupt",
-            vec!["--data", demo, "--model", corrupt_model.to_str().unwrap()],
+            vec![
+                "--data",
+                demo,
+                "--scenario",
+                "rope",
+                "--model",
+                corrupt_model.to_str().unwrap(),
+            ],
             None,
             1,
         ),
@@ -230,11 +237,20 @@ fn bench_perception_fails_with_one_clear_line_for_each_bad_input() {
             vec![
                 "--data",
                 demo,
+                "--scenario",
+                "rope",
                 "--model",
                 tiny,
                 "--colors",
                 "no-such-colors.json",
             ],
+            None,
+            1,
+        ),
+        (
+            // The demo holds rope and fluid videos, and both have perception.
+            "scenario_ambiguous",
+            vec!["--data", demo, "--model", tiny],
             None,
             1,
         ),

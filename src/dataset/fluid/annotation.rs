@@ -65,7 +65,7 @@ pub struct DensityRelation {
 }
 
 /// `trackingData` of one run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct FluidTracking {
     /// Fluid (emitter name, `Later Emitted …` included) → collider → particles that touched it
     /// (more than 20, except the fluid's own `… Emitter` entry).

@@ -40,48 +40,80 @@ const CLASSES: [ClassWords; 8] = [
         kind: "cube",
         attributes: &[("dynamic", "dynamic")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "sphere",
         kind: "sphere",
         attributes: &[("dynamic", "dynamic")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "rope",
         kind: "rope",
         attributes: &[("dynamic", "dynamic")],
         colors: &ROPE_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "fixed point",
         kind: "fixed point",
         attributes: &[("dynamic", "static")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "solid static pulley",
         kind: "pulley",
         attributes: &[("shape", "solid"), ("dynamic", "static")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "hollow static pulley",
         kind: "pulley",
         attributes: &[("shape", "hollow"), ("dynamic", "static")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "solid dynamic pulley",
         kind: "pulley",
         attributes: &[("shape", "solid"), ("dynamic", "dynamic")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
     ClassWords {
         name: "hollow dynamic pulley",
         kind: "pulley",
         attributes: &[("shape", "hollow"), ("dynamic", "dynamic")],
         colors: &OBJECT_PALETTE,
+        pieces: false,
+        // The release fills each of the eight classes from its own shuffled colour pool, and a
+        // pool repeats only after its 16 colours.
+        distinct_colors: true,
     },
 ];
 
@@ -90,9 +122,7 @@ pub const PERCEPTION: ScenarioPerception = ScenarioPerception {
     classes: ScenarioClasses {
         classes: &CLASSES,
         class_of_object,
-        // The release fills each of the eight classes from its own shuffled colour pool, and a
-        // pool repeats only after its 16 colours.
-        distinct_colors: true,
+        truth_object: super::classes::instance_is_object,
     },
     detector: "models/maskrcnn-rope.onnx",
     colors: "models/color-model.json",

@@ -8,7 +8,9 @@
 use super::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError};
 use std::path::PathBuf;
 
-use crate::physics::bench::{BenchCase, BenchError, Parameter, PhysicsBench, Reference};
+use crate::physics::bench::{
+    BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
+};
 
 /// Simulated time per run, s.
 const DURATION: f64 = 1.0;
@@ -33,9 +35,13 @@ pub const BENCH: PhysicsBench = PhysicsBench {
     ],
     default: &[1e-3],
     reference: Reference::TenfoldFiner,
-    errors: &["max_height_error_m"],
+    errors: &[ErrorMeasure {
+        key: "max_height_error_m",
+        reduction: Reduction::Largest,
+        tolerance: None,
+        plotted: true,
+    }],
     error_axis: "largest error, m",
-    tolerance: None,
     repeats: 3,
     title: "rope simulator",
     uses_videos: false,
@@ -60,7 +66,10 @@ fn case(name: &'static str, mechanism: Mechanism, exact: Option<Vec<f64>>) -> Be
             mechanism
                 .run(&mut state, DURATION, dt)
                 .map_err(|error| failed(name, &error))?;
-            Ok(vec![state.y])
+            Ok(CaseOutput {
+                quantities: vec![state.y],
+                work: None,
+            })
         }),
     }
 }

@@ -330,16 +330,18 @@ fn median(values: &mut [f64]) -> Option<f64> {
     }
 }
 
-/// Each fluid's particle heights in `container`'s cup at the last frame.
-fn container_layers(container: &ContainerRegion, tracks: &FluidTracks) -> Vec<Layer> {
+/// Each fluid's points (its tracked particles, or its pixels) in `container`'s cup at the end
+/// of the video.
+fn container_layers(
+    container: &ContainerRegion,
+    last: &IndexMap<String, Vec<[f64; 2]>>,
+) -> Vec<Layer> {
     let mut layers = Vec::new();
-    for (fluid, particles) in tracks {
-        let mut heights: Vec<f64> = particles
+    for (fluid, points) in last {
+        let mut heights: Vec<f64> = points
             .iter()
-            .filter_map(|track| {
-                let now = (*track.positions.last()?)?;
-                container.cup.contains(now).then_some(now[1])
-            })
+            .filter(|point| container.cup.contains(**point))
+            .map(|point| point[1])
             .collect();
         if let Some(median_y) = median(&mut heights) {
             layers.push(Layer {
@@ -352,16 +354,40 @@ fn container_layers(container: &ContainerRegion, tracks: &FluidTracks) -> Vec<La
     layers
 }
 
-/// The density order the containers' layering shows.
+/// Each fluid's tracked particles at the last frame, in scene order.
+fn last_positions(tracks: &FluidTracks) -> IndexMap<String, Vec<[f64; 2]>> {
+    tracks
+        .iter()
+        .map(|(fluid, particles)| {
+            let points = particles
+                .iter()
+                .filter_map(|track| *track.positions.last()?)
+                .collect();
+            (fluid.clone(), points)
+        })
+        .collect()
+}
+
+/// The density order the containers' layering of the tracked particles shows.
 pub(crate) fn infer_density(scene: &PerceivedFluidScene, tracks: &FluidTracks) -> DensityInference {
+    infer_density_from(scene, &last_positions(tracks), LAYER_MIN_PARTICLES)
+}
+
+/// The density order the containers' layering shows, from each fluid's points at the end of
+/// the video (`last`, by base fluid); a fluid takes part in a container's layering with more
+/// than `min_points` of them in its cup.
+pub(crate) fn infer_density_from(
+    scene: &PerceivedFluidScene,
+    last: &IndexMap<String, Vec<[f64; 2]>>,
+    min_points: usize,
+) -> DensityInference {
     let mut comparisons = Vec::new();
     for container in &scene.containers {
-        let layers = container_layers(container, tracks);
+        let layers = container_layers(container, last);
         for (index, first) in layers.iter().enumerate() {
             for second in layers.iter().skip(index + 1) {
                 let gap = first.median_y - second.median_y;
-                let enough =
-                    first.particles > LAYER_MIN_PARTICLES && second.particles > LAYER_MIN_PARTICLES;
+                let enough = first.particles > min_points && second.particles > min_points;
                 let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
                     None
                 } else if gap < 0.0 {

@@ -37,7 +37,9 @@
 
 mod events;
 pub(crate) mod infer;
+mod perceived;
 pub(crate) mod physics_bench;
+mod reading_check;
 mod runs;
 pub mod simulate;
 
@@ -45,9 +47,11 @@ pub mod simulate;
 mod tests;
 
 use std::path::PathBuf;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use infer::{FluidInference, PerceivedFluidScene, infer_fluid_properties};
+use perceived::perceive_scene;
+pub use reading_check::scene_report;
 use runs::{ReceptorBoxes, SimulatedRuns};
 use simulate::{FluidGeometry, FluidMaterialGuess, RunSettings};
 
@@ -58,6 +62,8 @@ use crate::dataset::fluid::{
 };
 use crate::dataset::vocabulary::Vocabulary;
 use crate::dataset::{FourDData, Scenario};
+use crate::perception::fluid::PERCEPTION;
+use crate::scene_api::perceiver::Perceiver;
 use crate::scene_api::{
     ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
     SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
@@ -123,23 +129,66 @@ pub(crate) struct FluidBackend {
     runs: OnceLock<Result<SimulatedRuns, ApiError>>,
     /// Resolution of the simulated runs.
     run_settings: RunSettings,
+    /// The video as the detector sees it (`--perception maskrcnn`): it placed the objects, and
+    /// under `--dynamics simulate` its fluid masks are what the properties are inferred from.
+    perceiver: Option<Mutex<Perceiver>>,
 }
 
 impl FluidBackend {
     /// The backend of one fluid video, as the scenario table's [`load`] builds it.
     pub(crate) fn load(spec: &VideoSpec) -> Result<FluidBackend, ApiError> {
-        if spec.perception == PerceptionBackend::MaskRcnn {
-            return Err(ApiError::Unavailable(
-                "fluid scenes have no detector yet: `--perception maskrcnn` is not implemented for fluid; run with `--perception annotation`"
-                    .to_string(),
+        let annotation = FluidAnnotation::load(&spec.video_dir.join("outputs.json"))?;
+        if spec.perception == PerceptionBackend::Annotation {
+            return Ok(FluidBackend::new(
+                annotation,
+                spec.dynamics,
+                spec.video_dir.clone(),
             ));
         }
-        let annotation = FluidAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-        Ok(FluidBackend::new(
-            annotation,
-            spec.dynamics,
-            spec.video_dir.clone(),
-        ))
+        // `--perception maskrcnn`: of the annotation only the camera calibration is read,
+        // unless the dynamics are the annotation's (whose recorded runs are keyed by its names).
+        let camera = annotation.camera.clone().ok_or_else(|| {
+            ApiError::Unavailable(
+                "perception needs the camera calibration (outputCamera), which this video lacks"
+                    .to_string(),
+            )
+        })?;
+        let mut perceiver = Perceiver::open(
+            &spec.video_dir,
+            spec.perception_models()?,
+            PERCEPTION.classes,
+            &VOCABULARY,
+        )?;
+        let perceived = perceive_scene(&mut perceiver, &camera)?;
+        perceiver.set_names(perceived.names.clone());
+        let mut backend = match spec.dynamics {
+            DynamicsBackend::Simulate => FluidBackend::new(
+                perceived.annotation,
+                DynamicsBackend::Simulate,
+                spec.video_dir.clone(),
+            ),
+            DynamicsBackend::Annotation => {
+                let mut backend = FluidBackend::new(
+                    annotation,
+                    DynamicsBackend::Annotation,
+                    spec.video_dir.clone(),
+                );
+                backend.apply_perception(&perceived.annotation);
+                backend
+            }
+        };
+        backend.perceiver = Some(Mutex::new(perceiver));
+        Ok(backend)
+    }
+
+    /// Hides from `find` the objects perception did not read, by name: a stick, container or
+    /// fluid read in another colour, or an emitter read as first instead of later, is not the
+    /// annotated object (whose recorded outcomes are keyed by the release's names).
+    fn apply_perception(&mut self, perceived: &FluidAnnotation) {
+        let (seen, _) = scene_objects(&perceived.layout);
+        for object in &mut self.objects {
+            object.visible = seen.iter().any(|other| other.name == object.name);
+        }
     }
 
     /// The backend of `annotation` (of the video in `video_dir`) under `dynamics`.
@@ -159,6 +208,7 @@ impl FluidBackend {
             inference: OnceLock::new(),
             runs: OnceLock::new(),
             run_settings: RunSettings::default(),
+            perceiver: None,
         }
     }
 
@@ -489,5 +539,14 @@ impl ScenarioBackend for FluidBackend {
             Some(Ok(runs)) => runs.work(),
             _ => (0, 0),
         }
+    }
+
+    fn perception_work(&self) -> (u64, u64) {
+        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
+            perceiver
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .work()
+        })
     }
 }

@@ -501,7 +501,7 @@ fn a_fluid_a_run_does_not_list_has_no_passing_answer() {
 }
 
 #[test]
-fn simulate_needs_the_tracked_particles_and_maskrcnn_is_not_implemented_for_fluid_yet() {
+fn simulate_needs_the_tracked_particles_and_maskrcnn_its_models() {
     // The hand-written video has no outputs4D.json: nothing to infer the properties from.
     let scene = open(
         fixture_dir(),
@@ -534,7 +534,7 @@ fn simulate_needs_the_tracked_particles_and_maskrcnn_is_not_implemented_for_flui
     assert_eq!(error.kind(), "unavailable");
     assert_eq!(
         error.to_string(),
-        "fluid scenes have no detector yet: `--perception maskrcnn` is not implemented for fluid; run with `--perception annotation`"
+        "perception (maskrcnn): there are no models for fluid scenes"
     );
 }
 

@@ -1,0 +1,203 @@
+//! `bench perception --scenario fluid`: the scene read from pixels against the annotated one,
+//! object by object (the fluid scenario's reading check).
+//!
+//! Input: fluid video folders and the perception models. Output: JSON: per kind the annotated
+//! objects, those read right (the right name, so the right colour and, for an emitter, first
+//! or later, at the right place) and those read that are not in the scene, per video and in
+//! total, with the videos read entirely and the mean error of the sticks' ends.
+
+use std::path::Path;
+
+use serde::Serialize;
+use serde_json::json;
+
+use super::perceived::perceive_scene;
+use crate::dataset::VideoFolder;
+use crate::dataset::fluid::{
+    FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, StickRecord, VOCABULARY,
+};
+use crate::perception::fluid::PERCEPTION;
+use crate::scene_api::perceiver::Perceiver;
+use crate::scene_api::{ApiError, PerceptionModels};
+
+/// A stick's ends, an emitter's centre or a cup's corners within this of the annotated ones
+/// (units) is in the right place: a stick is 0.15 thick and two sticks at least 0.7 apart.
+pub(crate) const MATCH_RADIUS: f64 = 0.2;
+
+/// Annotated objects of one kind, those read right, and those read that are not there.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub(crate) struct KindCheck {
+    /// Annotated objects.
+    pub annotated: usize,
+    /// Read with the right name at the right place.
+    pub right: usize,
+    /// Read objects with no annotated object of their name, or at the wrong place.
+    pub wrong: usize,
+}
+
+impl KindCheck {
+    fn add(&mut self, other: KindCheck) {
+        self.annotated += other.annotated;
+        self.right += other.right;
+        self.wrong += other.wrong;
+    }
+}
+
+/// One video's reading.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub(crate) struct SceneCheck {
+    /// Regular sticks.
+    pub sticks: KindCheck,
+    /// Containers.
+    pub containers: KindCheck,
+    /// Emitters, first and later.
+    pub emitters: KindCheck,
+    /// Fluids (one per first emitter).
+    pub fluids: KindCheck,
+    /// Sum of the sticks' end errors over the sticks read right, units.
+    #[serde(skip)]
+    pub end_error_sum: f64,
+    /// What the video could not tell.
+    pub unknown: Vec<String>,
+}
+
+impl SceneCheck {
+    /// Whether every object was read right and nothing else was read.
+    pub(crate) fn entire(&self) -> bool {
+        [self.sticks, self.containers, self.emitters, self.fluids]
+            .iter()
+            .all(|kind| kind.right == kind.annotated && kind.wrong == 0)
+    }
+}
+
+/// The reading check of `videos` (the scenario table's reading check for fluid).
+pub fn scene_report(
+    videos: &[VideoFolder],
+    models: &PerceptionModels,
+) -> Result<serde_json::Value, ApiError> {
+    let mut total = SceneCheck::default();
+    let mut per_video = Vec::new();
+    let mut entire = 0;
+    for video in videos {
+        let check = check_scene(&video.dir, models)
+            .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
+        total.sticks.add(check.sticks);
+        total.containers.add(check.containers);
+        total.emitters.add(check.emitters);
+        total.fluids.add(check.fluids);
+        total.end_error_sum += check.end_error_sum;
+        entire += usize::from(check.entire());
+        per_video.push(json!({"video": video.id.0, "check": check}));
+    }
+    let mean_end_error = total.end_error_sum / total.sticks.right.max(1) as f64;
+    Ok(json!({
+        "match_radius_units": MATCH_RADIUS,
+        "sticks": total.sticks,
+        "containers": total.containers,
+        "emitters": total.emitters,
+        "fluids": total.fluids,
+        "mean_stick_end_error_units": mean_end_error,
+        "videos_read_entirely": entire,
+        "per_video": per_video,
+    }))
+}
+
+/// Reads the scene of the video in `video_dir` from its pixels and compares it with the
+/// annotated one.
+pub(crate) fn check_scene(
+    video_dir: &Path,
+    models: &PerceptionModels,
+) -> Result<SceneCheck, ApiError> {
+    let truth = FluidAnnotation::load(&video_dir.join("outputs.json"))?;
+    let camera = truth.camera.clone().ok_or_else(|| {
+        ApiError::Unavailable(format!(
+            "{}: no camera calibration (outputCamera)",
+            video_dir.display()
+        ))
+    })?;
+    let mut perceiver = Perceiver::open(video_dir, models, PERCEPTION.classes, &VOCABULARY)?;
+    let seen = perceive_scene(&mut perceiver, &camera)?;
+    let mut check = compare(&truth.layout, &seen.annotation.layout);
+    check.unknown = seen.unknown;
+    Ok(check)
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// `seen` against `truth` (both relative to the tank origin).
+pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
+    let mut check = SceneCheck::default();
+    // Sticks: both ends in place, either way round.
+    let stick_error = |a: &StickRecord, b: &StickRecord| {
+        let straight = distance(a.start, b.start).max(distance(a.end, b.end));
+        let crossed = distance(a.start, b.end).max(distance(a.end, b.start));
+        straight.min(crossed)
+    };
+    check.sticks.annotated = truth.sticks.len();
+    for stick in &seen.sticks {
+        match truth.sticks.iter().find(|t| t.name == stick.name) {
+            Some(annotated) if stick_error(annotated, stick) <= MATCH_RADIUS => {
+                check.sticks.right += 1;
+                check.end_error_sum += stick_error(annotated, stick);
+            }
+            _ => check.sticks.wrong += 1,
+        }
+    }
+    // Containers: the cup in place.
+    check.containers.annotated = truth.reservoirs.len();
+    for container in &seen.reservoirs {
+        let origin = [0.0, 0.0];
+        let in_place = truth
+            .reservoirs
+            .iter()
+            .find(|t| t.name == container.name)
+            .is_some_and(|t| {
+                let (a, b) = (t.cup_box(origin), container.cup_box(origin));
+                distance(a.min, b.min).max(distance(a.max, b.max)) <= MATCH_RADIUS
+            });
+        if in_place {
+            check.containers.right += 1;
+        } else {
+            check.containers.wrong += 1;
+        }
+    }
+    // Emitters and fluids: by key, the emitter in place.
+    let emitters = |layout: &FluidLayout| -> Vec<(String, [f64; 2])> {
+        let mut all = Vec::new();
+        for fluid in &layout.fluids {
+            let p = fluid.emitter_position;
+            all.push((fluid.name.clone(), [p[0], p[1]]));
+            if fluid.has_predictive_emitter {
+                let q = fluid.predictive_emitter_position;
+                all.push((
+                    format!("{LATER_EMITTED_PREFIX}{}", fluid.name),
+                    [q[0], q[1]],
+                ));
+            }
+        }
+        all
+    };
+    let (annotated, read) = (emitters(truth), emitters(seen));
+    check.emitters.annotated = annotated.len();
+    for (key, at) in &read {
+        if annotated
+            .iter()
+            .any(|(k, p)| k == key && distance(*p, *at) <= MATCH_RADIUS)
+        {
+            check.emitters.right += 1;
+        } else {
+            check.emitters.wrong += 1;
+        }
+    }
+    check.fluids.annotated = truth.fluids.len();
+    for fluid in &seen.fluids {
+        if truth.fluids.iter().any(|t| t.name == fluid.name) {
+            check.fluids.right += 1;
+        } else {
+            check.fluids.wrong += 1;
+        }
+    }
+    check
+}
