@@ -19,6 +19,28 @@ NUM_CLASSES = 9  # including background
 IN_W, IN_H = 480, 270
 MIN_PIXELS = 6
 
+# The fluid model's classes (its own model, models/maskrcnn-fluid.onnx; same contract).
+FLUID_CLASSES = {
+    1: "stick",
+    2: "container",
+    3: "emitter",
+    4: "fluid",
+}
+FLUID_FLUID = 4  # the class whose instances are split into connected components per frame
+
+# Per scenario: class table, number of classes with background, the data root's scenario folder.
+SCENARIOS = {
+    "rope": {"classes": CLASSES, "num_classes": NUM_CLASSES, "folder": "pulley_group"},
+    "fluid": {"classes": FLUID_CLASSES, "num_classes": len(FLUID_CLASSES) + 1, "folder": "fluid_slides"},
+}
+
+
+def scenario(name):
+    """The SCENARIOS entry of `name` (rope, fluid)."""
+    if name not in SCENARIOS:
+        raise SystemExit(f"unknown scenario {name!r} (known: {', '.join(SCENARIOS)})")
+    return SCENARIOS[name]
+
 
 def class_of_name(name):
     """Class id from an Id2ObjectNameDict name ("Pink Hollow Static Pulley (0 5)"); 0 = ignore."""
@@ -36,6 +58,136 @@ def class_of_name(name):
     if "cube" in w:
         return 1
     return 0  # "Solver" and anything unknown
+
+
+def fluid_object_of_name(name):
+    """(class id, group key) of a fluid-scenario Id2ObjectNameDict name; class 0 = background.
+
+    The five parts of a container ("<C> Container Left Guided Stick", "... Bottom Floor",
+    "... Left Vertical Wall", ...) are one container, key "<C> Container"; emitters
+    ("<key> Emitter") are each their own object; "<C> Fluid" and "Later Emitted <C> Fluid" are one
+    fluid group per colour, key "<C> Fluid" (split into connected components per frame, see
+    split_components); "<C> Stick" is a stick. Tank walls, Floor, Ceiling (and anything unknown,
+    returned with key None) are background."""
+    if " Container " in name or name.endswith(" Container"):
+        return 2, name[:name.index(" Container")] + " Container"
+    if name.endswith(" Emitter"):
+        return 3, name
+    if name.endswith(" Fluid"):
+        base = name[len("Later Emitted "):] if name.startswith("Later Emitted ") else name
+        return FLUID_FLUID, base
+    if name.endswith(" Stick"):
+        return 1, name
+    if name in ("Left Vertical Wall", "Right Vertical Wall", "Floor", "Ceiling"):
+        return 0, name
+    return 0, None
+
+
+def fluid_groups(names):
+    """Generator instance ids -> target ids of a fluid video.
+
+    Returns (lut [256] uint8: generator id -> group id, 0 = background; classes [256] int64:
+    group id -> class; fluid_ids: the group ids of the per-colour fluid unions, to be split into
+    components; first_free: the first id free for fluid components; unknown: names not understood).
+    Group ids 1.. are the objects in order of their first generator id."""
+    lut = np.zeros(256, np.uint8)
+    classes = np.zeros(256, np.int64)
+    keys, unknown = {}, []
+    for iid in sorted(names):
+        cls, key = fluid_object_of_name(names[iid])
+        if key is None:
+            unknown.append(names[iid])
+        if cls == 0:
+            continue
+        if key not in keys:
+            keys[key] = len(keys) + 1
+            classes[keys[key]] = cls
+        lut[iid] = keys[key]
+    fluid_ids = [g for k, g in keys.items() if classes[g] == FLUID_FLUID]
+    first_free = len(keys) + 1
+    classes[first_free:] = FLUID_FLUID  # components get ids first_free..255
+    return lut, classes, fluid_ids, first_free, unknown
+
+
+def dilate3(m):
+    """3x3 binary dilation (bool HxW), zero outside the image."""
+    p = np.pad(m, 1)
+    h, w = m.shape
+    out = np.zeros_like(m)
+    for dy in range(3):
+        for dx in range(3):
+            out |= p[dy:dy + h, dx:dx + w]
+    return out
+
+
+def components8(m):
+    """8-connected components of a bool HxW mask: int32 label map (0 = outside, 1.. components
+    numbered in raster order of their first pixel) and the number of components. Union-find over
+    the horizontal runs of each row (numpy + Python only)."""
+    h, w = m.shape
+    parent = []
+    runs = []  # per row: (starts, ends exclusive, run ids)
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for y in range(h):
+        d = np.diff(np.concatenate([[0], m[y].astype(np.int8), [0]]))
+        s, e = np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]
+        ids = list(range(len(parent), len(parent) + len(s)))
+        parent.extend(ids)
+        if y and len(s) and len(runs[-1][0]):
+            ps, pe, pids = runs[-1]
+            j = 0
+            for k in range(len(s)):
+                # previous-row runs touching [s-1, e] (8-connectivity)
+                while j < len(ps) and pe[j] < s[k]:
+                    j += 1
+                jj = j
+                while jj < len(ps) and ps[jj] <= e[k]:
+                    a, b = find(ids[k]), find(pids[jj])
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+                    jj += 1
+        runs.append((s, e, ids))
+    labels = np.zeros((h, w), np.int32)
+    roots = {}
+    for y, (s, e, ids) in enumerate(runs):
+        for k in range(len(s)):
+            r = find(ids[k])
+            if r not in roots:
+                roots[r] = len(roots) + 1
+            labels[y, s[k]:e[k]] = roots[r]
+    return labels, len(roots)
+
+
+def split_components(g, fluid_ids, first_free, min_pixels=MIN_PIXELS):
+    """Replaces each per-colour fluid union (ids fluid_ids in the group map g, uint8) by its
+    connected components: 8-connectivity after a 3x3 dilation (touching droplets join); a
+    component's pixels are the undilated union inside it; components of at least min_pixels pixels
+    get ids first_free, first_free+1, ... (colour by colour, raster order), smaller ones become
+    background. Returns the new map and the number of components."""
+    out = g.copy()
+    masks = [g == f for f in fluid_ids]
+    for m in masks:
+        out[m] = 0
+    nxt = first_free
+    for m in masks:
+        if not m.any():
+            continue
+        labels, n = components8(dilate3(m))
+        for c in range(1, n + 1):
+            comp = m & (labels == c)
+            if comp.sum() < min_pixels:
+                continue
+            if nxt > 255:
+                raise ValueError("more than 255 instances in a frame")
+            out[comp] = nxt
+            nxt += 1
+    return out, nxt - first_free
 
 
 def box_average(img, f):
@@ -141,9 +293,11 @@ def targets_from_map(inst, classes):
     return (np.array(boxes, np.float32), np.array(labels, np.int64), np.stack(masks).astype(np.uint8))
 
 
-def decode_video(path, width, height):
-    """All frames of a video as uint8 [F,H,W,3] via the ffmpeg CLI."""
+def decode_video(path, width, height, passthrough=False):
+    """All frames of a video as uint8 [F,H,W,3] via the ffmpeg CLI (passthrough: one output frame
+    per coded frame, `-fps_mode passthrough`, as the Rust side decodes)."""
     import subprocess
-    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
+    extra = ["-nostdin", "-fps_mode", "passthrough"] if passthrough else []
+    raw = subprocess.run(["ffmpeg", "-v", "error", "-i", path] + extra + ["-f", "rawvideo", "-pix_fmt", "rgb24", "-"],
                          check=True, stdout=subprocess.PIPE).stdout
     return np.frombuffer(raw, np.uint8).reshape(-1, height, width, 3)

@@ -1,12 +1,15 @@
 """Box and mask AP@0.5 of an exported ONNX model (onnxruntime, 1 intra-op thread) on 480x270 caches.
 
   python evaluate.py MODEL.onnx --heldout CACHE_DIR --real REAL_NPZ [--real-min-key 101] [--json OUT.json]
+  python evaluate.py MODEL.onnx --scenario fluid --heldout CACHE_DIR [--heldout-mp4 CACHE_DIR] [--json OUT.json]
 
 AP: per class, detections of all images sorted by score, greedy matching to unmatched ground truth
 of the same class at IoU >= 0.5, all-point interpolated precision/recall area (VOC 2010+ style).
 Masks are pasted with torchvision's paste_masks_in_image (padding 1) and thresholded at 0.5.
 Ground truth: instances of the downscaled instance map with >= 6 pixels. Only detections above the
 model's baked-in score threshold exist, so recall is capped by it.
+--scenario fluid scores the fluid classes; --heldout-mp4 is a cache of the same held-out videos
+with the RGB decoded from output_Full.mp4 (prep_data.py --rgb mp4), scored as heldout_generated_mp4.
 """
 import argparse
 import glob
@@ -19,7 +22,7 @@ import onnxruntime as ort
 import torch
 from torchvision.models.detection.roi_heads import paste_masks_in_image
 
-from common import CLASSES, targets_from_map
+from common import CLASSES, scenario, targets_from_map
 
 
 def box_iou(a, b):
@@ -57,9 +60,10 @@ def ap_of(records, n_gt):
 
 
 class Evaluator:
-    def __init__(self):
-        self.rec = {"box": {c: [] for c in CLASSES}, "mask": {c: [] for c in CLASSES}}
-        self.ngt = {c: 0 for c in CLASSES}
+    def __init__(self, classes=CLASSES):
+        self.classes = classes
+        self.rec = {"box": {c: [] for c in classes}, "mask": {c: [] for c in classes}}
+        self.ngt = {c: 0 for c in classes}
         self.images = 0
         self.seconds = 0.0
 
@@ -71,7 +75,7 @@ class Evaluator:
                                           gt_masks.shape[1:], padding=1).numpy()[:, 0] > 0.5
         else:
             pasted = np.zeros((0,) + gt_masks.shape[1:], bool)
-        for c in CLASSES:
+        for c in self.classes:
             g = gt_labels == c
             self.ngt[c] += int(g.sum())
             d = np.where(labels == c)[0]
@@ -90,9 +94,9 @@ class Evaluator:
 
     def summary(self):
         res = {"images": self.images, "seconds_per_image": round(self.seconds / max(self.images, 1), 3),
-               "gt_instances": {CLASSES[c]: n for c, n in self.ngt.items()}}
+               "gt_instances": {self.classes[c]: n for c, n in self.ngt.items()}}
         for kind in ("box", "mask"):
-            per = {CLASSES[c]: ap_of(list(self.rec[kind][c]), self.ngt[c]) for c in CLASSES}
+            per = {self.classes[c]: ap_of(list(self.rec[kind][c]), self.ngt[c]) for c in self.classes}
             vals = [v for v in per.values() if v is not None]
             res[f"{kind}_ap50"] = {k: (round(v, 4) if v is not None else None) for k, v in per.items()}
             res[f"{kind}_map50"] = round(float(np.mean(vals)), 4) if vals else None
@@ -105,8 +109,8 @@ def run(sess, img):
     return dict(zip(names, sess.run(None, {"images_tensors": x})))
 
 
-def eval_items(sess, items):
-    ev = Evaluator()
+def eval_items(sess, items, classes=CLASSES):
+    ev = Evaluator(classes)
     for img, inst, cls in items:
         classes = {iid: int(cls[iid]) for iid in np.unique(inst) if iid != 0}
         b, l, m = targets_from_map(inst, classes)
@@ -125,26 +129,31 @@ def main():
     ap.add_argument("--real")
     ap.add_argument("--real-min-key", type=int, default=101)
     ap.add_argument("--json")
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"])
+    ap.add_argument("--heldout-mp4", help="fluid: the held-out videos with their RGB from the mp4")
     a = ap.parse_args()
+    classes = scenario(a.scenario)["classes"]
     torch.set_num_threads(1)
     so = ort.SessionOptions()
     so.intra_op_num_threads = 1
     sess = ort.InferenceSession(a.model, so, providers=["CPUExecutionProvider"])
     res = {"onnxruntime": ort.__version__, "intra_op_threads": 1}
-    if a.heldout:
+    for name, cache in (("heldout_generated", a.heldout), ("heldout_generated_mp4", a.heldout_mp4)):
+        if not cache:
+            continue
         items, vids = [], []
-        for p in sorted(glob.glob(os.path.join(a.heldout, "*.npz"))):
+        for p in sorted(glob.glob(os.path.join(cache, "*.npz"))):
             d = np.load(p)
             vids.append(os.path.basename(p)[:-4])
             for i in range(0, len(d["imgs"]), a.heldout_every):
                 items.append((d["imgs"][i], d["inst"][i], d["classes"]))
-        res["heldout_generated"] = eval_items(sess, items)
-        res["heldout_generated"]["videos"] = vids
-        print(json.dumps(res["heldout_generated"]), flush=True)
+        res[name] = eval_items(sess, items, classes)
+        res[name]["videos"] = vids
+        print(json.dumps(res[name]), flush=True)
     if a.real:
         d = np.load(a.real)
         sel = [i for i, k in enumerate(d["keys"]) if k >= a.real_min_key]
-        res["real_frames"] = eval_items(sess, [(d["imgs"][i], d["inst"][i], d["classes"]) for i in sel])
+        res["real_frames"] = eval_items(sess, [(d["imgs"][i], d["inst"][i], d["classes"]) for i in sel], classes)
         res["real_frames"]["keys"] = [int(d["keys"][sel[0]]), int(d["keys"][sel[-1]])]
         print(json.dumps(res["real_frames"]), flush=True)
     if a.json:

@@ -1,6 +1,7 @@
 """Export a checkpoint to ONNX (legacy exporter, opset 17), raw 28x28 masks, baked-in thresholds.
 
   python export.py CKPT.pt OUT.onnx [--score-thresh 0.3] [--nms 0.5] [--detections 24] [--check REAL_NPZ]
+                   [--scenario fluid]
 """
 import argparse
 
@@ -8,7 +9,7 @@ import numpy as np
 import onnxruntime as ort
 import torch
 
-from common import IN_H, IN_W
+from common import IN_H, IN_W, scenario
 from model import build_model
 
 
@@ -27,13 +28,17 @@ def main():
     ap.add_argument("--nms", type=float, default=0.5)
     ap.add_argument("--detections", type=int, default=24)
     ap.add_argument("--check", help="an .npz cache whose first image is the trace/compare input")
+    ap.add_argument("--check-frame", type=int, default=0, help="the image of --check to use")
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"],
+                    help="the class table the checkpoint was trained with (train.py --scenario)")
     a = ap.parse_args()
     torch.set_num_threads(1)
-    model = load(a.ckpt, score_thresh=a.score_thresh, nms_thresh=a.nms, detections=a.detections)
+    model = load(a.ckpt, score_thresh=a.score_thresh, nms_thresh=a.nms, detections=a.detections,
+                 num_classes=scenario(a.scenario)["num_classes"])
     torch.manual_seed(0)
     example = torch.rand(3, IN_H, IN_W)
     if a.check:
-        example = torch.from_numpy(np.load(a.check)["imgs"][0].transpose(2, 0, 1).astype(np.float32) / 255.0)
+        example = torch.from_numpy(np.load(a.check)["imgs"][a.check_frame].transpose(2, 0, 1).astype(np.float32) / 255.0)
     with torch.no_grad():
         torch.onnx.export(model, ([example],), a.out, dynamo=False, opset_version=17,
                           input_names=["images_tensors"], output_names=["boxes", "labels", "scores", "masks"],

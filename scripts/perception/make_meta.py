@@ -1,17 +1,19 @@
 """Write models/maskrcnn-rope.json from a checkpoint's metadata and evaluate.py's JSON.
 
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA [--score-thresh 0.3 --nms 0.5 --detections 24]
+  python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario fluid --detections 64
 
 DATA is the directory holding the generated data roots the caches were made from (train-rand/,
 train-rel/): every training video is listed with the SHA-256 of its outputs.json, so a test can
-check that the real video is not among them.
+check that the real video is not among them. For fluid (models/maskrcnn-fluid.json) DATA holds
+fluid-train-rand/ and fluid-train-rel/ (caches named like their data roots).
 """
 import argparse
 import hashlib
 import json
 import os
 
-from common import CLASSES, IN_H, IN_W
+from common import IN_H, IN_W, scenario
 
 GENERATE = [
     "contphy-eval generate --scenario rope --videos 48 --seed 3101 --out train-rand --frames png "
@@ -22,8 +24,49 @@ GENERATE = [
     "--resolution 960x540 --jobs 1 --quiet",
 ]
 
+FLUID_GENERATE = [
+    "contphy-eval generate --scenario fluid --videos 24 --seed 3201 --out fluid-train-rand --frames both "
+    "--resolution 480x270 --jobs 1 --quiet --appearance randomized",
+    "contphy-eval generate --scenario fluid --videos 12 --seed 3202 --out fluid-train-rel --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+    "contphy-eval generate --scenario fluid --videos 8 --seed 11 --out fluid-tune11 --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+]
 
-def training_videos(files, videos_root, prefix=""):
+# The scenario-specific sentences of the description (rope: those of models/maskrcnn-rope.json).
+TEXT = {
+    "rope": {
+        "generate": GENERATE,
+        "randomised": "rope strands, shadows, noise and blur",
+        "mix": "train-rand (randomised appearance) and train-rel (the release's look), each as the whole "
+               "frame box-averaged to 480x270 (every 3rd frame) and as 480x270 windows of the 960x540 frame "
+               "round the objects (zoom-rand, zoom-rel: every 6th frame; the camera twice as close), sampled "
+               "uniformly by frame",
+        "frames_note": "every 3rd frame of each video (offset video_id % 3); 960x540 PNG -> 480x270 by "
+                       "2x2 box average (round half up); masks: an instance owns an output pixel if it "
+                       "covers >= 2 of its 4 source pixels; instances under 6 pixels dropped",
+        "held_out": "the release's real video: a test only (metrics.real_frames), never a training input",
+    },
+    "fluid": {
+        "generate": FLUID_GENERATE,
+        "randomised": "shadows, noise and blur",
+        "mix": "fluid-train-rand (randomised appearance) and fluid-train-rel (the release's look), the whole "
+               "480x270 frame (every 5th frame), sampled uniformly by frame",
+        "frames_note": "every 5th frame of each video (offset video_id % 5), 480x270 as generated; RGB from the "
+                       "PNG on even cached frames and from output_Full.mp4 (ffmpeg, rgb24, -fps_mode passthrough) "
+                       "on odd ones, so that half the frames carry the compression of the evaluated videos; masks "
+                       "from the exact PNG segmentation colours: the five parts of a container are one container, "
+                       "each stick and emitter its own instance, the fluids of one colour (<C> Fluid and Later "
+                       "Emitted <C> Fluid) united and split into connected components (8-connectivity after a 3x3 "
+                       "dilation; a component's mask is the undilated union inside it); tank walls, floor and "
+                       "ceiling are background; instances under 6 pixels dropped",
+        "held_out": "fluid-tune11 (seed 11): evaluation only (metrics; every 10th frame, RGB from the PNG and, "
+                    "as heldout_generated_mp4, from the mp4); the test set (seed 2026) is never used",
+    },
+}
+
+
+def training_videos(files, videos_root, prefix="", folder="pulley_group"):
     """[{video, outputs_sha256}] of the cache files (train-rand/5.npz -> train-rand/pulley_group/5)."""
     out = []
     for f in files:
@@ -31,13 +74,13 @@ def training_videos(files, videos_root, prefix=""):
         # A zoom-X cache holds full-resolution windows of the train-X videos (prep_data --zoom).
         if root.startswith("zoom-"):
             root = "train-" + root[len("zoom-"):]
-        video = os.path.join(root, "pulley_group", os.path.splitext(name)[0])
+        video = os.path.join(root, folder, os.path.splitext(name)[0])
         data = open(os.path.join(videos_root, video, "outputs.json"), "rb").read()
         out.append({"video": prefix + video, "outputs_sha256": hashlib.sha256(data).hexdigest()})
     return out
 
 
-def all_training_videos(ck, videos_root, init_roots):
+def all_training_videos(ck, videos_root, init_roots, folder="pulley_group"):
     """The training videos of a checkpoint and of every checkpoint it was initialised from,
     each once."""
     out, seen = [], set()
@@ -46,7 +89,7 @@ def all_training_videos(ck, videos_root, init_roots):
         if level is None:
             break
         prefix = "" if os.path.normpath(root) == os.path.normpath(videos_root) else "pretraining/"
-        for video in training_videos(level["training_files"], root, prefix):
+        for video in training_videos(level["training_files"], root, prefix, folder):
             key = (video["video"], video["outputs_sha256"])
             if key not in seen:
                 seen.add(key)
@@ -93,7 +136,10 @@ def main():
     ap.add_argument("--init-generate", action="append", default=[],
                     help="the generate commands of the pretraining data (repeatable)")
     ap.add_argument("--loss-csv", help="train.py's loss.csv: final losses = mean of its last 10 rows")
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"])
     a = ap.parse_args()
+    sc = scenario(a.scenario)
+    classes, text = sc["classes"], TEXT[a.scenario]
     ck = json.load(open(a.ckpt_json))
     ev = json.load(open(a.eval_json))
     args = ck["args"]
@@ -108,7 +154,7 @@ def main():
         "model": os.path.basename(a.model),
         "sha256": hashlib.sha256(open(a.model, "rb").read()).hexdigest(),
         "bytes": os.path.getsize(a.model),
-        "classes": {str(k): v for k, v in CLASSES.items()},
+        "classes": {str(k): v for k, v in classes.items()},
         "class_note": "labels are 1-based, 0 = background (never output); colour is not a class",
         "input": {
             "name": "images_tensors", "shape": [3, "H", "W"], "dtype": "float32",
@@ -120,7 +166,7 @@ def main():
         "outputs": {
             "boxes": "float32 [N,4] x1,y1,x2,y2 in input pixels (continuous coordinates: a box covering pixel "
                      "columns 10..19 is x1=10, x2=20; training targets were [min_x, min_y, max_x+1, max_y+1])",
-            "labels": "int64 [N] class ids 1..8",
+            "labels": f"int64 [N] class ids 1..{len(classes)}",
             "scores": "float32 [N] descending",
             "masks": "float32 [N,1,28,28] raw sigmoid probabilities of the detection's own class over its box "
                      "(not pasted); paste like torchvision paste_masks_in_image(padding=1) and threshold at 0.5",
@@ -142,23 +188,18 @@ def main():
                             f"value noise on the background, cell 1-12 px, contrast U(0.05,0.45), p={args.get('texture', 0.0)}), "
                             "brightness x U(0.75,1.25), contrast x U(0.8,1.2), saturation x U(0.85,1.15); hue "
                             "never changed. The generator randomises light, wall, colours (within their names), "
-                            "rope strands, shadows, noise and blur (--appearance randomized)",
+                            f"{text['randomised']} (--appearance randomized)",
         },
         "data": {
             "generated": {
-                "commands": GENERATE,
+                "commands": text["generate"],
                 "train_videos": ck["generated_videos"], "train_frames": ck["generated_frames"],
-                "mix": "train-rand (randomised appearance) and train-rel (the release's look), each as the whole "
-                       "frame box-averaged to 480x270 (every 3rd frame) and as 480x270 windows of the 960x540 frame "
-                       "round the objects (zoom-rand, zoom-rel: every 6th frame; the camera twice as close), sampled "
-                       "uniformly by frame",
-                "frames_note": "every 3rd frame of each video (offset video_id % 3); 960x540 PNG -> 480x270 by "
-                               "2x2 box average (round half up); masks: an instance owns an output pixel if it "
-                               "covers >= 2 of its 4 source pixels; instances under 6 pixels dropped",
+                "mix": text["mix"],
+                "frames_note": text["frames_note"],
                 "frame_key": "frame_NNNNN.png is annotation key NNNNN+1 (checked: boxes equal mask boxes)",
             },
-            "training_videos": all_training_videos(ck, a.videos, a.init_videos),
-            "held_out": "the release's real video: a test only (metrics.real_frames), never a training input",
+            "training_videos": all_training_videos(ck, a.videos, a.init_videos, sc["folder"]),
+            "held_out": text["held_out"],
         },
         "stages": stages(ck),
         "pretraining_commands": a.init_generate,

@@ -16,17 +16,23 @@ from torchvision.ops.feature_pyramid_network import LastLevelMaxPool
 
 from common import NUM_CLASSES
 
-CONFIG = {
-    "backbone": "mobilenet_v3_small features (BatchNorm2d, from scratch), FPN on strides 8/16/32 + maxpool 64",
-    "return_layers": {"3": "0", "8": "1", "12": "2"},
-    "fpn_out_channels": 128,
-    "anchor_sizes": [[16], [32], [64], [128]],
-    "aspect_ratios": [0.25, 0.5, 1.0, 2.0, 4.0],
-    "box_head": "TwoMLPHead(128*7*7 -> 256 -> 256), FastRCNNPredictor(256, 9)",
-    "mask_head": "MaskRCNNHeads(128, [64,64,64,64]), MaskRCNNPredictor(64, 64, 9), 28x28 masks",
-    "roi_align": "box 7x7 sampling 2, mask 14x14 sampling 2, levels 0,1,2",
-    "normalization": "in graph: (x - [0.485,0.456,0.406]) / [0.229,0.224,0.225]; no resize; pad to /32",
-}
+def model_config(num_classes=NUM_CLASSES):
+    """The architecture description (checkpoint metadata, the model's .json) for `num_classes`
+    classes including background (rope 9, fluid 5)."""
+    return {
+        "backbone": "mobilenet_v3_small features (BatchNorm2d, from scratch), FPN on strides 8/16/32 + maxpool 64",
+        "return_layers": {"3": "0", "8": "1", "12": "2"},
+        "fpn_out_channels": 128,
+        "anchor_sizes": [[16], [32], [64], [128]],
+        "aspect_ratios": [0.25, 0.5, 1.0, 2.0, 4.0],
+        "box_head": f"TwoMLPHead(128*7*7 -> 256 -> 256), FastRCNNPredictor(256, {num_classes})",
+        "mask_head": f"MaskRCNNHeads(128, [64,64,64,64]), MaskRCNNPredictor(64, 64, {num_classes}), 28x28 masks",
+        "roi_align": "box 7x7 sampling 2, mask 14x14 sampling 2, levels 0,1,2",
+        "normalization": "in graph: (x - [0.485,0.456,0.406]) / [0.229,0.224,0.225]; no resize; pad to /32",
+    }
+
+
+CONFIG = model_config(NUM_CLASSES)  # rope
 
 
 class NoResizeTransform(GeneralizedRCNNTransform):
@@ -46,7 +52,7 @@ class NoResizeTransform(GeneralizedRCNNTransform):
         return result  # raw [N,1,28,28] mask probabilities of each detection's own class; boxes in input pixels
 
 
-def build_model(paste_masks=True, score_thresh=0.05, nms_thresh=0.5, detections=100):
+def build_model(paste_masks=True, score_thresh=0.05, nms_thresh=0.5, detections=100, num_classes=NUM_CLASSES):
     feats = mobilenet_v3_small(weights=None, norm_layer=nn.BatchNorm2d).features
     c = CONFIG["fpn_out_channels"]
     backbone = BackboneWithFPN(feats, return_layers=CONFIG["return_layers"], in_channels_list=[24, 48, 576],
@@ -60,10 +66,10 @@ def build_model(paste_masks=True, score_thresh=0.05, nms_thresh=0.5, detections=
         rpn_anchor_generator=anchors,
         box_roi_pool=box_pool,
         box_head=TwoMLPHead(c * 49, 256),
-        box_predictor=FastRCNNPredictor(256, NUM_CLASSES),
+        box_predictor=FastRCNNPredictor(256, num_classes),
         mask_roi_pool=mask_pool,
         mask_head=MaskRCNNHeads(c, [64, 64, 64, 64], 1),
-        mask_predictor=MaskRCNNPredictor(64, 64, NUM_CLASSES),
+        mask_predictor=MaskRCNNPredictor(64, 64, num_classes),
         rpn_pre_nms_top_n_train=1000, rpn_post_nms_top_n_train=500,
         rpn_pre_nms_top_n_test=500, rpn_post_nms_top_n_test=200,
         rpn_batch_size_per_image=128,

@@ -7,6 +7,7 @@ checkpoint's metadata lists every cache file trained on.
 Augmentation (the camera and the sensor, beyond what the generator randomises): horizontal flip,
 scale x U(0.8, 1.25) with a random shift (the release camera re-frames each scene), brightness,
 contrast and saturation. Hue is never changed: colour names are labels.
+--scenario fluid trains the fluid model (classes common.FLUID_CLASSES) on fluid caches.
 """
 import argparse
 import csv
@@ -20,8 +21,8 @@ import time
 import numpy as np
 import torch
 
-from common import targets_from_map
-from model import CONFIG, build_model
+from common import scenario, targets_from_map
+from model import model_config, build_model
 
 
 class Pool:
@@ -129,6 +130,8 @@ def make_sample(item, rng, scale=(0.8, 1.25), texture=0.0):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cache", required=True, action="append")
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"],
+                    help="the class table (and so the number of classes) of the model")
     ap.add_argument("--out", required=True)
     ap.add_argument("--minutes", type=float, default=50)
     ap.add_argument("--batch", type=int, default=2)
@@ -158,7 +161,9 @@ def main():
         time.sleep(20)
         pool.rescan()
     print(f"generated frames {len(pool.gen)} from {len(pool.loaded)} videos", flush=True)
-    model = build_model()
+    num_classes = scenario(a.scenario)["num_classes"]
+    config = model_config(num_classes)
+    model = build_model(num_classes=num_classes)
     init_meta = None
     if a.init:
         state = torch.load(a.init, map_location="cpu", weights_only=False)
@@ -182,7 +187,7 @@ def main():
     it = 0
 
     def save(tag):
-        meta = {"iter": it, "seconds": time.time() - start, "args": vars(a), "config": CONFIG,
+        meta = {"iter": it, "seconds": time.time() - start, "args": vars(a), "config": config,
                 "generated_frames": len(pool.gen), "generated_videos": len(pool.loaded),
                 "training_files": [os.path.relpath(p, os.path.dirname(c)) for p in pool.loaded
                                    for c in a.cache if os.path.dirname(p) == os.path.normpath(c)], "last_losses": {k: v / max(n_acc, 1) for k, v in acc.items()},

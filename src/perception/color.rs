@@ -70,6 +70,18 @@ pub fn wall_color(frame: &RgbFrame, masks: &[&InstanceMask]) -> Option<[f64; 3]>
     Some([median(r)?, median(g)?, median(b)?]).filter(|w| w.iter().all(|c| *c > 1e-4))
 }
 
+/// How unlike the wall pixel `(x, y)` is: the squared distance of its colour relative to the
+/// wall from (1, 1, 1), in log space (darker and brighter count alike); `None` outside the
+/// frame.
+pub fn unlike_wall(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<f64> {
+    let p = linear_pixel(frame, x, y)?;
+    Some(
+        (0..3)
+            .map(|c| (p[c] / wall[c]).max(1e-4).ln().powi(2))
+            .sum(),
+    )
+}
+
 /// The features of the pixels under `mask`, relative to `wall`; `None` with fewer than
 /// [`MIN_PIXELS`] pixels. Only the half of the pixels least like the wall counts: a mask bleeds
 /// onto the wall round its object (a thin rope's mask is mostly wall), and taking the brighter

@@ -171,12 +171,19 @@ pub fn truth_instances(
         } else {
             vec![mask]
         };
-        out.extend(parts.into_iter().map(|mask| TruthInstance {
-            instance_id,
-            class,
-            color,
-            mask,
-        }));
+        // Pieces are numbered apart (the object's id, then 65,536 higher per piece): the
+        // evaluation pairs truths by id within a frame.
+        out.extend(
+            parts
+                .into_iter()
+                .zip(0_u32..)
+                .map(|(mask, piece)| TruthInstance {
+                    instance_id: instance_id.saturating_add(piece << 16),
+                    class,
+                    color,
+                    mask,
+                }),
+        );
     }
     out
 }

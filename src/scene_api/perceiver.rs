@@ -287,16 +287,47 @@ impl Perceiver {
         Ok(scene)
     }
 
-    /// The detections (with colours) of `frames`, in order, untracked: the first pass runs
-    /// first and its detections are reused; frames the video lacks are left out.
-    pub fn detections(&mut self, frames: &[usize]) -> Result<FrameDetections, ApiError> {
+    /// Hands `visit` each of `frames` (in order; those the video lacks are left out) with its
+    /// detections (with colours), untracked: the first pass runs first and its detections are
+    /// reused; frames are decoded in batches, so a whole video is never held at once.
+    pub fn visit_detections(
+        &mut self,
+        frames: &[usize],
+        visit: &mut dyn FnMut(&RgbFrame, &[Detection]),
+    ) -> Result<(), ApiError> {
         self.first_pass()?;
         let wanted: Vec<usize> = frames
             .iter()
             .copied()
             .filter(|f| *f < self.info.frame_count)
             .collect();
-        Ok(self.detect(&wanted, false)?.0)
+        for batch in wanted.chunks(16) {
+            let decoded = self.read_frames(batch)?;
+            let missing: Vec<&RgbFrame> = decoded
+                .iter()
+                .filter(|frame| !self.kept.contains_key(&frame.index))
+                .collect();
+            let mut found: BTreeMap<usize, Vec<Detection>> = BTreeMap::new();
+            if !missing.is_empty() {
+                with_models(&self.models, self.classes, |detector, colors| {
+                    for frame in &missing {
+                        let mut detections = detector.detect(frame).map_err(unavailable)?;
+                        name_colors(frame, &mut detections, colors, detector.classes());
+                        found.insert(frame.index, detections);
+                    }
+                    Ok(())
+                })?;
+                self.work.1 += missing.len() as u64;
+            }
+            for frame in &decoded {
+                let detections = found
+                    .get(&frame.index)
+                    .or_else(|| self.kept.get(&frame.index))
+                    .map_or(&[][..], Vec::as_slice);
+                visit(frame, detections);
+            }
+        }
+        Ok(())
     }
 
     /// The tracks of every frame of the video, each with the name of the first-pass track it

@@ -6,7 +6,7 @@
 //! sticks) and a fluid as one instance per emitter, spread over the sticks and cups it reached;
 //! the detector was trained on a container as one object and on each connected piece of a
 //! fluid (all emitters of its colour) as one detection ([`ClassWords::pieces`]), and the truth
-//! of `bench perception` is grouped the same way ([`truth_object`]).
+//! of `bench perception` is grouped the same way (`truth_object` below).
 
 use super::ScenarioPerception;
 use super::classes::{ClassWords, ScenarioClasses, TruthObject};

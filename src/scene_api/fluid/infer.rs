@@ -20,10 +20,11 @@
 //! while non-sticky ones (0.02) slide off at a few units a second.
 
 mod bench;
+pub(crate) mod masks;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use bench::inference_report;
+pub(crate) use bench::{InferenceScore, inference_report};
 
 use indexmap::IndexMap;
 use serde::Serialize;
@@ -35,6 +36,7 @@ use crate::dataset::fluid::world::{
 };
 use crate::dataset::fluid::{FluidLayout, Viscosity, base_fluid_name};
 use crate::scene_api::ApiError;
+use crate::scene_api::fluid::seen::SeenFlow;
 
 /// Frames of the video (updates 2 to 500, every second one): the 4-D data's frames past these,
 /// if any, are not read.
@@ -405,6 +407,13 @@ pub(crate) fn infer_density_from(
             }
         }
     }
+    density_from_comparisons(comparisons)
+}
+
+/// The density order the regions' decided comparisons vote for: each votes for its lower
+/// fluid with the smaller of the two layers' sizes; a pair goes the way of the total, and is
+/// left out on a tie.
+pub(crate) fn density_from_comparisons(comparisons: Vec<LayerComparison>) -> DensityInference {
     // Votes per pair, keyed (first, second) in comparison order: positive for the first
     // lying lower.
     let mut votes: IndexMap<(String, String), (i64, bool, bool)> = IndexMap::new();
@@ -617,6 +626,9 @@ pub(crate) struct FluidInference {
     pub(crate) density: DensityInference,
     /// Each fluid's viscosity class and evidence, in scene order.
     pub(crate) viscosity: Vec<ViscosityEvidence>,
+    /// What the masks said of each fluid's viscosity (inference from masks only).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) mask_viscosity: Vec<masks::MaskViscosity>,
     /// The total order for a simulator, lightest first.
     pub(crate) ranks: Vec<DensityRank>,
 }
@@ -634,6 +646,25 @@ pub(crate) fn infer_fluid_properties(
     Ok(FluidInference {
         density,
         viscosity,
+        mask_viscosity: Vec::new(),
+        ranks,
+    })
+}
+
+/// Infers the fluid properties of `video` from its perceived scene and what the detector saw
+/// of its fluids (`--perception maskrcnn`, [`masks`]).
+pub(crate) fn infer_from_masks(
+    video: &str,
+    scene: &PerceivedFluidScene,
+    flow: &SeenFlow,
+) -> Result<FluidInference, InferError> {
+    let density = masks::infer_density_from_masks(scene, flow);
+    let (viscosity, mask_viscosity) = masks::infer_viscosity_from_masks(scene, flow);
+    let ranks = density_ranks(video, scene, &density)?;
+    Ok(FluidInference {
+        density,
+        viscosity,
+        mask_viscosity,
         ranks,
     })
 }

@@ -41,6 +41,7 @@ mod perceived;
 pub(crate) mod physics_bench;
 mod reading_check;
 mod runs;
+mod seen;
 pub mod simulate;
 
 #[cfg(test)]
@@ -49,10 +50,12 @@ mod tests;
 use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock, PoisonError};
 
-use infer::{FluidInference, PerceivedFluidScene, infer_fluid_properties};
+use infer::masks::frames_needed;
+use infer::{FluidInference, PerceivedFluidScene, infer_fluid_properties, infer_from_masks};
 use perceived::perceive_scene;
 pub use reading_check::scene_report;
 use runs::{ReceptorBoxes, SimulatedRuns};
+use seen::{SeenFlow, seen_flow};
 use simulate::{FluidGeometry, FluidMaterialGuess, RunSettings};
 
 use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
@@ -225,6 +228,14 @@ impl FluidBackend {
     fn inference(&self) -> Result<&FluidInference, ApiError> {
         self.inference
             .get_or_init(|| {
+                let scene = PerceivedFluidScene::from_layout(&self.annotation.layout);
+                let video = self.video_dir.display().to_string();
+                if let Some(perceiver) = &self.perceiver {
+                    let mut perceiver = perceiver.lock().unwrap_or_else(PoisonError::into_inner);
+                    let flow = self.seen_flow(&mut perceiver)?;
+                    return infer_from_masks(&video, &scene, &flow)
+                        .map_err(|error| ApiError::Data(error.to_string()));
+                }
                 let path = self.video_dir.join("outputs4D.json");
                 if !path.is_file() {
                     return Err(ApiError::Unavailable(format!(
@@ -233,13 +244,32 @@ impl FluidBackend {
                     )));
                 }
                 let four_d = FourDData::load(&path)?;
-                let scene = PerceivedFluidScene::from_layout(&self.annotation.layout);
-                let video = self.video_dir.display().to_string();
                 infer_fluid_properties(&video, &scene, &four_d)
                     .map_err(|error| ApiError::Data(error.to_string()))
             })
             .as_ref()
             .map_err(Clone::clone)
+    }
+
+    /// What the detector sees of the fluids over the frames the inference reads (`--perception
+    /// maskrcnn`), each fluid named by its emitters' colour.
+    fn seen_flow(&self, perceiver: &mut Perceiver) -> Result<SeenFlow, ApiError> {
+        let camera = self.annotation.camera.as_ref().ok_or_else(|| {
+            ApiError::Unavailable(
+                "perception needs the camera calibration (outputCamera), which this video lacks"
+                    .to_string(),
+            )
+        })?;
+        let (width, height, frame_count) = perceiver.frames();
+        let model = perceived::camera_model(camera, (width, height));
+        let fluids: Vec<(String, u8)> = self
+            .annotation
+            .layout
+            .fluids
+            .iter()
+            .map(|fluid| (fluid.name.clone(), fluid.color))
+            .collect();
+        seen_flow(perceiver, &model, &fluids, &frames_needed(frame_count))
     }
 
     /// The simulated runs (`--dynamics simulate`): the scene rebuilt from perception (the

@@ -4,14 +4,19 @@
 //! Input: fluid video folders and the perception models. Output: JSON: per kind the annotated
 //! objects, those read right (the right name, so the right colour and, for an emitter, first
 //! or later, at the right place) and those read that are not in the scene, per video and in
-//! total, with the videos read entirely and the mean error of the sticks' ends.
+//! total, with the videos read entirely and the mean error of the sticks' ends; and the fluids'
+//! density order and viscosity classes inferred from the detector's masks, scored against the
+//! annotation as `bench inference` scores them from the tracked particles.
 
 use std::path::Path;
 
 use serde::Serialize;
 use serde_json::json;
 
-use super::perceived::perceive_scene;
+use super::infer::masks::frames_needed;
+use super::infer::{FluidInference, InferenceScore, PerceivedFluidScene, infer_from_masks};
+use super::perceived::{camera_model, perceive_scene};
+use super::seen::seen_flow;
 use crate::dataset::VideoFolder;
 use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, StickRecord, VOCABULARY,
@@ -78,9 +83,15 @@ pub fn scene_report(
     let mut total = SceneCheck::default();
     let mut per_video = Vec::new();
     let mut entire = 0;
+    let mut properties = InferenceScore::default();
+    let mut failed = Vec::new();
     for video in videos {
-        let check = check_scene(&video.dir, models)
+        let (check, inference, truth) = check_scene(&video.dir, models)
             .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
+        match inference {
+            Ok(inference) => properties.add(&video.id.0, &truth, &inference),
+            Err(error) => failed.push(json!({"video": video.id.0, "error": error.to_string()})),
+        }
         total.sticks.add(check.sticks);
         total.containers.add(check.containers);
         total.emitters.add(check.emitters);
@@ -99,15 +110,26 @@ pub fn scene_report(
         "mean_stick_end_error_units": mean_end_error,
         "videos_read_entirely": entire,
         "per_video": per_video,
+        "properties_from_masks": properties.json(),
+        "properties_failed": failed,
     }))
 }
 
+/// What the check of one video gives: the scene's reading, the properties inferred from the
+/// detector's masks (or why not), and the annotation.
+type VideoCheck = (
+    SceneCheck,
+    Result<FluidInference, ApiError>,
+    FluidAnnotation,
+);
+
 /// Reads the scene of the video in `video_dir` from its pixels and compares it with the
-/// annotated one.
+/// annotated one; infers the fluids' properties from the masks, as `--dynamics simulate`
+/// does.
 pub(crate) fn check_scene(
     video_dir: &Path,
     models: &PerceptionModels,
-) -> Result<SceneCheck, ApiError> {
+) -> Result<VideoCheck, ApiError> {
     let truth = FluidAnnotation::load(&video_dir.join("outputs.json"))?;
     let camera = truth.camera.clone().ok_or_else(|| {
         ApiError::Unavailable(format!(
@@ -119,7 +141,22 @@ pub(crate) fn check_scene(
     let seen = perceive_scene(&mut perceiver, &camera)?;
     let mut check = compare(&truth.layout, &seen.annotation.layout);
     check.unknown = seen.unknown;
-    Ok(check)
+    let (width, height, frame_count) = perceiver.frames();
+    let model = camera_model(&camera, (width, height));
+    let fluids: Vec<(String, u8)> = seen
+        .annotation
+        .layout
+        .fluids
+        .iter()
+        .map(|fluid| (fluid.name.clone(), fluid.color))
+        .collect();
+    let scene = PerceivedFluidScene::from_layout(&seen.annotation.layout);
+    let inference = seen_flow(&mut perceiver, &model, &fluids, &frames_needed(frame_count))
+        .and_then(|flow| {
+            infer_from_masks(&video_dir.display().to_string(), &scene, &flow)
+                .map_err(ApiError::from)
+        });
+    Ok((check, inference, truth))
 }
 
 fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {

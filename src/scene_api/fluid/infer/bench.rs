@@ -105,6 +105,33 @@ impl Tally {
     }
 }
 
+/// Inferences scored against their videos' annotations, video by video (the reading check
+/// scores what is inferred from the detector's masks with it).
+#[derive(Debug, Default)]
+pub(crate) struct InferenceScore {
+    total: Tally,
+    per_video: Vec<Value>,
+}
+
+impl InferenceScore {
+    /// Scores `inference` of video `id` against `annotation`.
+    pub(crate) fn add(
+        &mut self,
+        id: &str,
+        annotation: &FluidAnnotation,
+        inference: &FluidInference,
+    ) {
+        let (tally, report) = score_video(id, annotation, inference);
+        self.total.add(&tally);
+        self.per_video.push(report);
+    }
+
+    /// The totals and the per-video reports.
+    pub(crate) fn json(&self) -> Value {
+        json!({"total": self.total.json(), "per_video": self.per_video})
+    }
+}
+
 /// `a / b` rounded to 4 decimals, `null` when `b` is 0.
 fn ratio(a: u64, b: u64) -> Value {
     if b == 0 {

@@ -1,0 +1,111 @@
+//! The fluids as the detector sees them (`--perception maskrcnn`): per frame, each fluid's
+//! pixels lifted onto the scene's plane, for the property inference that the tracked particles
+//! of `outputs4D.json` feed under annotation perception.
+//!
+//! Input: a [`Perceiver`] on the video, the camera model, the scene's fluids (name and palette
+//! colour, from its first emitters) and the frames to read. Output: [`SeenFlow`]. The detector
+//! finds a fluid piece by piece (a stream, a film on a stick, a layer in a cup: the fluid
+//! model's `fluid` class) and the colour model names each piece; a piece in a colour no fluid
+//! of the scene has is counted and left out (its fluid is known by its emitter's colour, and
+//! two fluids never share one).
+
+use indexmap::IndexMap;
+
+use super::perceived::FLUID_PLANE_Z;
+use crate::perception::camera::CameraModel;
+use crate::perception::color::{unlike_wall, wall_color};
+use crate::perception::detection::{Detection, InstanceMask};
+use crate::perception::frames::RgbFrame;
+use crate::scene_api::ApiError;
+use crate::scene_api::perceiver::Perceiver;
+
+/// Pixels of the frame size the inference's thresholds are stated in (480 × 270, the
+/// detector's input).
+const REFERENCE_PIXELS: f64 = 480.0 * 270.0;
+
+/// Per fluid of the scene (in scene order), its pixels' centres on the plane `z = 0`, world
+/// units.
+pub(crate) type FluidPoints = IndexMap<String, Vec<[f64; 2]>>;
+
+/// Each fluid's lifted pixels in the frames read.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct SeenFlow {
+    /// Per frame read, in order: the frame and each fluid's pixels.
+    pub frames: Vec<(usize, FluidPoints)>,
+    /// Pixels of fluid pieces whose colour is no fluid's of the scene (or unread).
+    pub unnamed_pixels: u64,
+    /// What one pixel of these frames counts for in pixels of a 480×270 frame (the detector's
+    /// input size, in which the inference's pixel thresholds are stated).
+    pub pixel_weight: f64,
+}
+
+impl SeenFlow {
+    /// The pixels of `fluid` in the frame at `index` of [`SeenFlow::frames`].
+    pub(crate) fn at(&self, index: usize, fluid: &str) -> &[[f64; 2]] {
+        self.frames
+            .get(index)
+            .and_then(|(_, fluids)| fluids.get(fluid))
+            .map_or(&[], Vec::as_slice)
+    }
+}
+
+/// A fluid detection's pixel is fluid when its colour is at least this unlike the wall's
+/// ([`unlike_wall`]: squared log distance of the colour relative to the wall; 0.02 is a 15%
+/// difference in one channel): the detector's masks are blobs round a fluid that is often a
+/// spray of drops, and the rules of the inference read the drops.
+const FLUID_UNLIKE_WALL: f64 = 0.02;
+
+/// Reads `frames` of the video through `perceiver`: the fluid pieces of each, named by colour
+/// (`fluids`: the scene's fluid names and palette colours), their pixels unlike the wall lifted
+/// through `model`.
+pub(crate) fn seen_flow(
+    perceiver: &mut Perceiver,
+    model: &CameraModel,
+    fluids: &[(String, u8)],
+    frames: &[usize],
+) -> Result<SeenFlow, ApiError> {
+    let fluid_class = perceiver
+        .classes()
+        .and_then(|table| table.all().find(|class| table.kind(*class) == "fluid"));
+    let mut flow = SeenFlow {
+        pixel_weight: REFERENCE_PIXELS
+            / (f64::from(model.width) * f64::from(model.height)).max(1.0),
+        ..SeenFlow::default()
+    };
+    let mut visit = |frame: &RgbFrame, found: &[Detection]| {
+        let mut by_fluid: FluidPoints = fluids
+            .iter()
+            .map(|(name, _)| (name.clone(), Vec::new()))
+            .collect();
+        let masks: Vec<&InstanceMask> = found.iter().map(|d| &d.mask).collect();
+        let wall = wall_color(frame, &masks);
+        for detection in found {
+            if Some(detection.class) != fluid_class {
+                continue;
+            }
+            let named = detection
+                .color
+                .and_then(|color| fluids.iter().find(|(_, c)| *c == color));
+            let Some(points) = named.and_then(|(name, _)| by_fluid.get_mut(name)) else {
+                flow.unnamed_pixels += detection.mask.area();
+                continue;
+            };
+            for (x, y) in detection.mask.pixels() {
+                let fluid_like = wall.is_none_or(|wall| {
+                    unlike_wall(frame, x, y, wall).is_some_and(|u| u >= FLUID_UNLIKE_WALL)
+                });
+                if !fluid_like {
+                    continue;
+                }
+                if let Some(point) =
+                    model.lift_to_plane(f64::from(x) + 0.5, f64::from(y) + 0.5, FLUID_PLANE_Z)
+                {
+                    points.push(point);
+                }
+            }
+        }
+        flow.frames.push((frame.index, by_fluid));
+    };
+    perceiver.visit_detections(frames, &mut visit)?;
+    Ok(flow)
+}
