@@ -164,12 +164,15 @@ def components8(m):
     return labels, len(roots)
 
 
-def split_components(g, fluid_ids, first_free, min_pixels=MIN_PIXELS):
+def split_components(g, fluid_ids, first_free, min_pixels=MIN_PIXELS, join=1):
     """Replaces each per-colour fluid union (ids fluid_ids in the group map g, uint8) by its
-    connected components: 8-connectivity after a 3x3 dilation (touching droplets join); a
-    component's pixels are the undilated union inside it; components of at least min_pixels pixels
-    get ids first_free, first_free+1, ... (colour by colour, raster order), smaller ones become
-    background. Returns the new map and the number of components."""
+    connected components: 8-connectivity after a (2*join+1)-square dilation (droplets within
+    2*join pixels join); with join 1 a component's pixels are the undilated union inside it, with
+    join > 1 they are its closing (dilation then erosion by the same square, inside the component:
+    the gaps between nearby droplets filled, a solid region the 28x28 mask head can draw; the pixels
+    are refined by colour at answer time). Components of at least min_pixels pixels get ids
+    first_free, first_free+1, ... (colour by colour, raster order), smaller ones become background.
+    Returns the new map and the number of components."""
     out = g.copy()
     masks = [g == f for f in fluid_ids]
     for m in masks:
@@ -178,13 +181,23 @@ def split_components(g, fluid_ids, first_free, min_pixels=MIN_PIXELS):
     for m in masks:
         if not m.any():
             continue
-        labels, n = components8(dilate3(m))
+        grown = m
+        for _ in range(join):
+            grown = dilate3(grown)
+        labels, n = components8(grown)
+        if join > 1:
+            shrunk = ~grown
+            for _ in range(join):
+                shrunk = dilate3(shrunk)
+            closed = ~shrunk | m
         for c in range(1, n + 1):
-            comp = m & (labels == c)
-            if comp.sum() < min_pixels:
+            comp = (closed if join > 1 else m) & (labels == c)
+            if (m & comp).sum() < min_pixels:
                 continue
             if nxt > 255:
                 raise ValueError("more than 255 instances in a frame")
+            # Solid objects drawn over the fluid keep their pixels.
+            comp &= (out == 0) | m
             out[comp] = nxt
             nxt += 1
     return out, nxt - first_free

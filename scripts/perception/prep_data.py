@@ -127,7 +127,7 @@ def mp4_rgb(vd, shape, n, pngs):
     return rgb
 
 
-def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides"):
+def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides", join=1):
     """Caches of generated fluid videos (see the module doc); no real-video part."""
     os.makedirs(out, exist_ok=True)
     vids = sorted((p for p in glob.glob(os.path.join(root, folder, "*")) if os.path.basename(p).isdigit()),
@@ -166,7 +166,13 @@ def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides"):
             if f != 1:
                 g = downscale_instance_map(g, f, [int(x) for x in np.unique(g) if x])
                 rgb = box_average(rgb, f)
-            g, n = split_components(g, fluid_ids, first_free)
+            regions = fluid_ids
+            if join > 1 and len(fluid_ids) > 1:
+                # Regions: the fluids of every colour together (drops of two fluids interleave in
+                # a spray or a cup); the colour of each pixel names its fluid at answer time.
+                g = np.where(np.isin(g, fluid_ids), fluid_ids[0], g).astype(g.dtype)
+                regions = fluid_ids[:1]
+            g, n = split_components(g, regions, first_free, join=join)
             most = max(most, int(len(np.unique(g))) - 1)
             imgs.append(rgb)
             insts.append(g)
@@ -222,6 +228,9 @@ if __name__ == "__main__":
     ap.add_argument("--rgb", default="png", choices=["png", "mp4", "alternate"],
                     help="fluid: where the RGB comes from (the masks always come from the PNG segmentation)")
     ap.add_argument("--every", type=int, default=3)
+    ap.add_argument("--fluid-join", type=int, default=1,
+                    help="fluid: drops within 2*J pixels are one instance; J > 1 also fills the gaps between "
+                         "them (a closing by the (2J+1)-square) and unites the fluids of all colours (fluid regions)")
     ap.add_argument("--zoom", action="store_true",
                     help="480x270 windows of the 960x540 frames at full resolution (a 2x camera zoom "
                          "with real detail) instead of the box-averaged whole frame")
@@ -229,7 +238,7 @@ if __name__ == "__main__":
     if a.scenario == "fluid":
         if a.mode != "generated" or a.zoom:
             raise SystemExit("fluid: generated videos only, without --zoom")
-        prep_fluid(a.src, a.out, a.every, a.rgb, scenario("fluid")["folder"])
+        prep_fluid(a.src, a.out, a.every, a.rgb, scenario("fluid")["folder"], a.fluid_join)
     elif a.rgb != "png":
         raise SystemExit("--rgb: fluid only")
     elif a.mode == "generated":

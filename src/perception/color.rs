@@ -82,6 +82,16 @@ pub fn unlike_wall(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<f
     )
 }
 
+/// The features of one pixel relative to `wall` (those of [`features`] for a single pixel);
+/// `None` off the frame or when not finite.
+pub fn pixel_features(frame: &RgbFrame, x: u32, y: u32, wall: [f64; 3]) -> Option<ColorFeatures> {
+    let p = linear_pixel(frame, x, y)?;
+    let relative = [p[0] / wall[0], p[1] / wall[1], p[2] / wall[2]];
+    let sum = relative[0] + relative[1] + relative[2] + 1e-6;
+    let result = [relative[0] / sum, relative[1] / sum, sum.ln()];
+    result.iter().all(|v| v.is_finite()).then_some(result)
+}
+
 /// The features of the pixels under `mask`, relative to `wall`; `None` with fewer than
 /// [`MIN_PIXELS`] pixels. Only the half of the pixels least like the wall counts: a mask bleeds
 /// onto the wall round its object (a thin rope's mask is mostly wall), and taking the brighter
@@ -281,9 +291,18 @@ impl ColorModel {
         if self.samples.iter().filter(|(id, _)| admitted(*id)).count() >= NEIGHBOURS {
             return self.nearest_neighbours(features, admitted);
         }
+        self.likeliest(features, allowed)
+            .map(|id| vec![(id, NEIGHBOURS)])
+            .unwrap_or_default()
+    }
+
+    /// The colour among `allowed` (every colour when empty) whose Gaussian gives `features` the
+    /// highest likelihood (ties: the smaller id): cheap enough for every pixel of a mask, where
+    /// the neighbour vote of [`ColorModel::classify`] is for one feature per object.
+    pub fn likeliest(&self, features: &ColorFeatures, allowed: &[u8]) -> Option<u8> {
         self.prototypes
             .iter()
-            .filter(|p| admitted(p.palette_id))
+            .filter(|p| allowed.is_empty() || allowed.contains(&p.palette_id))
             .map(|p| {
                 let log_likelihood: f64 = (0..3)
                     .map(|c| {
@@ -295,8 +314,7 @@ impl ColorModel {
             })
             .filter(|(l, _)| l.is_finite())
             .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
-            .map(|(_, id)| vec![(id, NEIGHBOURS)])
-            .unwrap_or_default()
+            .map(|(_, id)| id)
     }
 }
 
@@ -483,5 +501,26 @@ mod tests {
         // Too few pixels.
         let tiny = InstanceMask::from_predicate(40, 30, |x, y| x == 10 && y < 3);
         assert_eq!(features(&red_frame, &tiny, wall), None);
+    }
+
+    #[test]
+    fn one_pixel_reads_like_its_object_and_only_admitted_colours_win() {
+        let (red_frame, mask) = frame_with_square([200, 0, 0]);
+        let wall = wall_color(&red_frame, &[&mask]).expect("a wall");
+        let object = features(&red_frame, &mask, wall).expect("100 pixels");
+        // A uniform square: each of its pixels has the object's features.
+        let pixel = pixel_features(&red_frame, 12, 15, wall).expect("inside the frame");
+        for c in 0..3 {
+            assert!((pixel[c] - object[c]).abs() < 1e-9, "feature {c}");
+        }
+        assert_eq!(pixel_features(&red_frame, 40, 0, wall), None);
+        let (green_frame, _) = frame_with_square([0, 200, 0]);
+        let green = features(&green_frame, &mask, wall).expect("100 pixels");
+        let model = ColorModel::fit(&[(0, object), (3, green)], "test").expect("a model");
+        assert_eq!(model.likeliest(&pixel, &[]), Some(0));
+        assert_eq!(model.likeliest(&pixel, &[0, 3]), Some(0));
+        // Red not admitted: the likeliest of what is.
+        assert_eq!(model.likeliest(&pixel, &[3]), Some(3));
+        assert_eq!(model.likeliest(&pixel, &[7]), None);
     }
 }

@@ -287,6 +287,19 @@ impl Perceiver {
         Ok(scene)
     }
 
+    /// The colour model's Gaussians (without its fitting samples): for reading colours pixel by
+    /// pixel ([`ColorModel::likeliest`]).
+    pub fn color_prototypes(&self) -> Result<ColorModel, ApiError> {
+        with_models(&self.models, self.classes, |_, colors| {
+            Ok(ColorModel {
+                fitted_on: colors.fitted_on.clone(),
+                prototypes: colors.prototypes.clone(),
+                samples: Vec::new(),
+                training_videos: Vec::new(),
+            })
+        })
+    }
+
     /// Hands `visit` each of `frames` (in order; those the video lacks are left out) with its
     /// detections (with colours), untracked: the first pass runs first and its detections are
     /// reused; frames are decoded in batches, so a whole video is never held at once.

@@ -64,6 +64,8 @@ pub(crate) struct SceneCheck {
     pub end_error_sum: f64,
     /// What the video could not tell.
     pub unknown: Vec<String>,
+    /// Each object read wrong, and how ("stick `Red Stick`: ends 0.31 units off").
+    pub misread: Vec<String>,
 }
 
 impl SceneCheck {
@@ -179,7 +181,23 @@ pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
                 check.sticks.right += 1;
                 check.end_error_sum += stick_error(annotated, stick);
             }
-            _ => check.sticks.wrong += 1,
+            Some(annotated) => {
+                check.sticks.wrong += 1;
+                check.misread.push(format!(
+                    "stick `{}`: ends {:.2} units off (seen {:.2} long, annotated {:.2})",
+                    stick.name,
+                    stick_error(annotated, stick),
+                    distance(stick.start, stick.end),
+                    distance(annotated.start, annotated.end)
+                ));
+            }
+            None => {
+                check.sticks.wrong += 1;
+                check.misread.push(format!(
+                    "stick `{}`: no annotated stick of that name",
+                    stick.name
+                ));
+            }
         }
     }
     // Containers: the cup in place.
@@ -198,6 +216,10 @@ pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
             check.containers.right += 1;
         } else {
             check.containers.wrong += 1;
+            check.misread.push(format!(
+                "container `{}`: not annotated there",
+                container.name
+            ));
         }
     }
     // Emitters and fluids: by key, the emitter in place.
@@ -226,6 +248,9 @@ pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
             check.emitters.right += 1;
         } else {
             check.emitters.wrong += 1;
+            check
+                .misread
+                .push(format!("emitter `{key}`: not annotated there"));
         }
     }
     check.fluids.annotated = truth.fluids.len();
@@ -234,6 +259,9 @@ pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
             check.fluids.right += 1;
         } else {
             check.fluids.wrong += 1;
+            check
+                .misread
+                .push(format!("fluid `{}`: not in the scene", fluid.name));
         }
     }
     check

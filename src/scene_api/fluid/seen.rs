@@ -4,16 +4,16 @@
 //!
 //! Input: a [`Perceiver`] on the video, the camera model, the scene's fluids (name and palette
 //! colour, from its first emitters) and the frames to read. Output: [`SeenFlow`]. The detector
-//! finds a fluid piece by piece (a stream, a film on a stick, a layer in a cup: the fluid
-//! model's `fluid` class) and the colour model names each piece; a piece in a colour no fluid
-//! of the scene has is counted and left out (its fluid is known by its emitter's colour, and
+//! draws regions round the fluid of any colour (the fluid model's `fluid` class: a spray, a
+//! film on a stick, the layers in a cup), and the colour model names each pixel in them; a pixel
+//! of no fluid's colour is counted and left out (a fluid is known by its emitter's colour, and
 //! two fluids never share one).
 
 use indexmap::IndexMap;
 
 use super::perceived::FLUID_PLANE_Z;
 use crate::perception::camera::CameraModel;
-use crate::perception::color::{unlike_wall, wall_color};
+use crate::perception::color::{pixel_features, unlike_wall, wall_color};
 use crate::perception::detection::{Detection, InstanceMask};
 use crate::perception::frames::RgbFrame;
 use crate::scene_api::ApiError;
@@ -51,13 +51,19 @@ impl SeenFlow {
 
 /// A fluid detection's pixel is fluid when its colour is at least this unlike the wall's
 /// ([`unlike_wall`]: squared log distance of the colour relative to the wall; 0.02 is a 15%
-/// difference in one channel): the detector's masks are blobs round a fluid that is often a
+/// difference in one channel): the detector's masks are regions round a fluid that is often a
 /// spray of drops, and the rules of the inference read the drops.
 const FLUID_UNLIKE_WALL: f64 = 0.02;
 
-/// Reads `frames` of the video through `perceiver`: the fluid pieces of each, named by colour
-/// (`fluids`: the scene's fluid names and palette colours), their pixels unlike the wall lifted
-/// through `model`.
+/// Reads `frames` of the video through `perceiver`: the fluid regions of each, their pixels
+/// unlike the wall named pixel by pixel by colour (`fluids`: the scene's fluid names and palette
+/// colours) and lifted through `model`.
+///
+/// The detector draws a region round fluid of any colour (drops of two fluids interleave in a
+/// spray or a cup), so each pixel is named by itself: the likeliest colour among the scene's
+/// fluids and the colours of the sticks, containers and emitters seen in the frame. A pixel
+/// whose colour is a solid object's, or that lies in the mask of a solid object of its colour
+/// (a stick under the spray), is not fluid.
 pub(crate) fn seen_flow(
     perceiver: &mut Perceiver,
     model: &CameraModel,
@@ -67,6 +73,7 @@ pub(crate) fn seen_flow(
     let fluid_class = perceiver
         .classes()
         .and_then(|table| table.all().find(|class| table.kind(*class) == "fluid"));
+    let colors = perceiver.color_prototypes()?;
     let mut flow = SeenFlow {
         pixel_weight: REFERENCE_PIXELS
             / (f64::from(model.width) * f64::from(model.height)).max(1.0),
@@ -79,24 +86,48 @@ pub(crate) fn seen_flow(
             .collect();
         let masks: Vec<&InstanceMask> = found.iter().map(|d| &d.mask).collect();
         let wall = wall_color(frame, &masks);
+        let solids: Vec<&Detection> = found
+            .iter()
+            .filter(|d| Some(d.class) != fluid_class)
+            .collect();
+        let mut allowed: Vec<u8> = fluids.iter().map(|(_, color)| *color).collect();
+        allowed.extend(solids.iter().filter_map(|d| d.color));
+        allowed.sort_unstable();
+        allowed.dedup();
+        // A pixel inside two overlapping fluid regions is read once.
+        let mut read = vec![false; frame.width as usize * frame.height as usize];
         for detection in found {
             if Some(detection.class) != fluid_class {
                 continue;
             }
-            let named = detection
-                .color
-                .and_then(|color| fluids.iter().find(|(_, c)| *c == color));
-            let Some(points) = named.and_then(|(name, _)| by_fluid.get_mut(name)) else {
-                flow.unnamed_pixels += detection.mask.area();
-                continue;
-            };
             for (x, y) in detection.mask.pixels() {
-                let fluid_like = wall.is_none_or(|wall| {
-                    unlike_wall(frame, x, y, wall).is_some_and(|u| u >= FLUID_UNLIKE_WALL)
-                });
+                let Some(seen) = read.get_mut(y as usize * frame.width as usize + x as usize)
+                else {
+                    continue;
+                };
+                if std::mem::replace(seen, true) {
+                    continue;
+                }
+                let Some(wall) = wall else { continue };
+                let fluid_like =
+                    unlike_wall(frame, x, y, wall).is_some_and(|u| u >= FLUID_UNLIKE_WALL);
                 if !fluid_like {
                     continue;
                 }
+                let color = pixel_features(frame, x, y, wall)
+                    .and_then(|features| colors.likeliest(&features, &allowed));
+                let named = color.and_then(|color| {
+                    let under_solid = solids
+                        .iter()
+                        .any(|d| d.color == Some(color) && d.mask.contains(x, y));
+                    (!under_solid)
+                        .then(|| fluids.iter().find(|(_, c)| *c == color))
+                        .flatten()
+                });
+                let Some(points) = named.and_then(|(name, _)| by_fluid.get_mut(name)) else {
+                    flow.unnamed_pixels += 1;
+                    continue;
+                };
                 if let Some(point) =
                     model.lift_to_plane(f64::from(x) + 0.5, f64::from(y) + 0.5, FLUID_PLANE_Z)
                 {
