@@ -94,7 +94,9 @@ pub(crate) enum InferError {
         particle: usize,
     },
     /// The scene's fluid count has no density pool in the release.
-    #[error("video `{video}`: {count} fluids; the release's density pools are for 3 or 4")]
+    #[error(
+        "video `{video}`: {count} fluids; the release's density pools are for 3 or 4 (1 or 2 when perception missed some)"
+    )]
     FluidCount {
         /// The video.
         video: String,
@@ -565,7 +567,14 @@ pub(crate) fn density_ranks(
     scene: &PerceivedFluidScene,
     density: &DensityInference,
 ) -> Result<Vec<DensityRank>, InferError> {
+    // Fewer fluids than the release ever has (1 or 2) are fluids perception missed: the
+    // 3-fluid pool's ends (or middle) keep the ones read apart, so the scene still runs and only
+    // the questions about the missing fluid fail.
+    let two = [DENSITIES_3_FLUIDS[0], DENSITIES_3_FLUIDS[2]];
+    let one = [DENSITIES_3_FLUIDS[1]];
     let pool: &[f64] = match scene.fluids.len() {
+        1 => &one,
+        2 => &two,
         3 => &DENSITIES_3_FLUIDS,
         4 => &DENSITIES_4_FLUIDS,
         count => {

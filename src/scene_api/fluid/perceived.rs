@@ -38,7 +38,9 @@ use crate::dataset::fluid::{
 };
 use crate::perception::camera::CameraModel;
 use crate::perception::classes::ClassTable;
+use crate::perception::color::{unlike_wall, wall_color};
 use crate::perception::detection::{Detection, InstanceMask};
+use crate::perception::frames::RgbFrame;
 use crate::perception::tracking::Track;
 use crate::scene_api::ApiError;
 use crate::scene_api::perceiver::Perceiver;
@@ -122,6 +124,8 @@ pub(crate) struct FirstPass<'a> {
     pub detections: &'a BTreeMap<usize, Vec<Detection>>,
     /// The model's classes.
     pub classes: &'a ClassTable,
+    /// Frames whose pixels refine the masks by colour (none: masks as they are).
+    pub frames: &'a BTreeMap<usize, RgbFrame>,
 }
 
 /// Reads the scene of the video `perceiver` opened, seen through `camera`.
@@ -140,10 +144,31 @@ pub(crate) fn perceive_scene(
             unknown: vec!["the video has no frames".to_string()],
         });
     };
+    // The frames of the sticks' largest masks, whose pixels are read by colour.
+    let stick_frames: Vec<usize> = perceiver
+        .first_tracks()
+        .iter()
+        .filter(|track| classes.kind(track.class) == "stick")
+        .filter_map(|track| largest_mask(track, perceiver.first_detections()))
+        .map(|(frame, _)| frame)
+        .collect::<std::collections::BTreeSet<usize>>()
+        .into_iter()
+        .collect();
+    let frames: BTreeMap<usize, RgbFrame> = perceiver
+        .read_frames(&stick_frames)?
+        .into_iter()
+        .map(|frame| (frame.index, frame))
+        .collect();
+    let Some(classes) = perceiver.classes() else {
+        return Err(ApiError::Unavailable(
+            "the detector's classes are unknown".into(),
+        ));
+    };
     let pass = FirstPass {
         tracks: perceiver.first_tracks(),
         detections: perceiver.first_detections(),
         classes,
+        frames: &frames,
     };
     let mut perceived = read_scene(pass, &model, camera);
     perceived.annotation.frame_count = frame_count;
@@ -160,6 +185,7 @@ pub(crate) fn read_scene(
         tracks,
         detections,
         classes,
+        frames,
     } = pass;
     let mut names: Vec<Option<String>> = vec![None; tracks.len()];
     let mut unknown = Vec::new();
@@ -169,11 +195,21 @@ pub(crate) fn read_scene(
             .enumerate()
             .filter(|(_, track)| classes.kind(track.class) == kind)
             .filter_map(|(index, track)| {
-                let mask = largest_mask(track, detections)?;
+                let (frame, mask) = largest_mask(track, detections)?;
+                let points = match frames.get(&frame) {
+                    Some(rgb) if kind == "stick" => {
+                        let masks: Vec<&InstanceMask> = detections
+                            .get(&frame)
+                            .map(|found| found.iter().map(|d| &d.mask).collect())
+                            .unwrap_or_default();
+                        lift_object_pixels(model, mask, rgb, &masks)
+                    }
+                    _ => lift_mask(model, mask, FRONT_FACE_Z),
+                };
                 Some(Placed {
                     track: index,
                     color: track.color?,
-                    points: lift_mask(model, mask, FRONT_FACE_Z),
+                    points,
                 })
             })
             .collect()
@@ -203,12 +239,47 @@ pub(crate) fn read_scene(
 fn largest_mask<'a>(
     track: &Track,
     detections: &'a BTreeMap<usize, Vec<Detection>>,
-) -> Option<&'a InstanceMask> {
+) -> Option<(usize, &'a InstanceMask)> {
     track
         .observations
         .iter()
-        .filter_map(|point| Some(&detections.get(&point.frame)?.get(point.detection)?.mask))
-        .max_by_key(|mask| mask.area())
+        .filter_map(|point| {
+            let mask = &detections.get(&point.frame)?.get(point.detection)?.mask;
+            Some((point.frame, mask))
+        })
+        .max_by_key(|(_, mask)| mask.area())
+}
+
+/// A mask pixel belongs to its object when its colour is at least this unlike the wall's
+/// ([`unlike_wall`]; 0.02 is a 15% difference in one channel).
+const OBJECT_UNLIKE_WALL: f64 = 0.02;
+
+/// The lifted pixels of `mask` whose colour in `frame` is unlike the wall's (the wall read
+/// round `masks`, the frame's detections): the detector's masks run some pixels past a stick's
+/// ends onto the wall, which would lengthen it. A stick nearly the wall's colour (white, grey)
+/// keeps its whole mask when fewer than half of its pixels pass.
+fn lift_object_pixels(
+    model: &CameraModel,
+    mask: &InstanceMask,
+    frame: &RgbFrame,
+    masks: &[&InstanceMask],
+) -> Vec<[f64; 2]> {
+    let Some(wall) = wall_color(frame, masks) else {
+        return lift_mask(model, mask, FRONT_FACE_Z);
+    };
+    let object: Vec<(u32, u32)> = mask
+        .pixels()
+        .filter(|(x, y)| unlike_wall(frame, *x, *y, wall).is_some_and(|u| u >= OBJECT_UNLIKE_WALL))
+        .collect();
+    if (object.len() as u64) * 2 < mask.area() {
+        return lift_mask(model, mask, FRONT_FACE_Z);
+    }
+    object
+        .into_iter()
+        .filter_map(|(x, y)| {
+            model.lift_to_plane(f64::from(x) + 0.5, f64::from(y) + 0.5, FRONT_FACE_Z)
+        })
+        .collect()
 }
 
 /// The colour name of a palette id (`Light Blue`).
@@ -736,6 +807,7 @@ mod tests {
                 tracks: &tracks,
                 detections: &detections,
                 classes: &classes,
+                frames: &BTreeMap::new(),
             };
             let model = camera_model(&camera, (320, 180));
             let read = read_scene(pass, &model, &camera);

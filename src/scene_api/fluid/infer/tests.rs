@@ -323,11 +323,17 @@ fn bad_tracks_are_errors_naming_video_and_fluid() {
         (BLUE, layer(5, [0.0, 1.0], [0.0, 1.0])),
         (PINK, layer(5, [0.0, 1.0], [0.0, 1.0])),
     ]);
+    // Two fluids (perception missed one): the 3-fluid pool's ends.
+    let inferred = infer_fluid_properties("7", &self::scene(&[BLUE, PINK]), &two).unwrap();
+    let mut densities: Vec<f64> = inferred.ranks.iter().map(|rank| rank.density).collect();
+    densities.sort_by(f64::total_cmp);
+    assert_eq!(densities, vec![1600.0, 4400.0]);
+    let none = four_d(Vec::new());
     assert_eq!(
-        infer_fluid_properties("7", &self::scene(&[BLUE, PINK]), &two)
+        infer_fluid_properties("7", &self::scene(&[]), &none)
             .unwrap_err()
             .to_string(),
-        "video `7`: 2 fluids; the release's density pools are for 3 or 4"
+        "video `7`: 0 fluids; the release's density pools are for 3 or 4 (1 or 2 when perception missed some)"
     );
 }
 
