@@ -47,7 +47,8 @@ done
 cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_group/0.json \
   --out "${out}" "${perception[@]}" "$@"
 # Fluid: two generated videos (eval/demo/fluid_slides/), every question the engine made for them,
-# with the oracle backends (fluid's simulate backend and perception are the next issue).
+# with the oracle backends (ContPRO's fluid pipeline, --dynamics simulate and --perception maskrcnn,
+# is measured in docs/data/fluid.md; these 320x180 videos are smaller than its detector's input).
 exec cargo run --release --locked -- --data eval/demo --questions eval/demo/fluid_slides/0.json \
   --questions eval/demo/fluid_slides/1.json --out "${out}-fluid" \
   --perception annotation --dynamics annotation "$@"

@@ -58,10 +58,14 @@ TEXT = {
                        "from the exact PNG segmentation colours: the five parts of a container are one container, "
                        "each stick and emitter its own instance, the fluids of one colour (<C> Fluid and Later "
                        "Emitted <C> Fluid) united and split into connected components (8-connectivity after a 3x3 "
-                       "dilation; a component's mask is the undilated union inside it); tank walls, floor and "
-                       "ceiling are background; instances under 6 pixels dropped",
-        "held_out": "fluid-tune11 (seed 11): evaluation only (metrics; every 10th frame, RGB from the PNG and, "
-                    "as heldout_generated_mp4, from the mp4); the test set (seed 2026) is never used",
+                       "dilation; a component's mask is the undilated union inside it) in stage 1, and in stage 2 "
+                       "(prep_data.py --fluid-join 3) the fluids of all colours united into regions (drops within "
+                       "6 pixels joined, the gaps closed by a 7x7 closing; the colour of each pixel names its fluid "
+                       "at answer time); tank walls, floor and ceiling are background; instances under 6 pixels "
+                       "dropped",
+        "held_out": "fluid-tune11 (seed 11, videos 0-5): evaluation only (metrics; every 10th frame, RGB from the "
+                    "PNG and, as heldout_generated_mp4, from the mp4; fluid targets as in stage 2); the test set "
+                    "(seed 2026) is never used",
     },
 }
 

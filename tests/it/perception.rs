@@ -638,3 +638,66 @@ fn no_real_frame_is_in_any_training_set() {
         "{data:?}"
     );
 }
+
+#[test]
+fn the_fluid_models_learnt_from_their_training_seeds_only() {
+    // The fluid detector and colour model list the generated videos they learnt from; every
+    // one is from the two training seeds' folders (3201 randomised, 3202 the release's look),
+    // never from the tuning seed's (fluid-tune11, the held-out figures) or the test seed's
+    // (fluid100), and none is a demo video (eval/demo/fluid_slides, by its outputs.json hash).
+    let root = crate::support::root();
+    let demo: Vec<String> = ["0", "1"]
+        .iter()
+        .map(|id| {
+            sha256_hex(
+                &root
+                    .join("eval/demo/fluid_slides")
+                    .join(id)
+                    .join("outputs.json"),
+            )
+        })
+        .collect();
+    let read = |file: &str| -> serde_json::Value {
+        serde_json::from_slice(&fs_err::read(root.join("models").join(file)).unwrap()).unwrap()
+    };
+    let detector = read("maskrcnn-fluid.json");
+    let colors = read("color-model-fluid.json");
+    for (model, listed, least) in [
+        (
+            "maskrcnn-fluid.json",
+            &detector["data"]["training_videos"],
+            19,
+        ),
+        ("color-model-fluid.json", &colors["training_videos"], 36),
+    ] {
+        let listed = listed
+            .as_array()
+            .unwrap_or_else(|| panic!("{model}: no list"));
+        assert!(
+            listed.len() >= least,
+            "{model}: {} training videos",
+            listed.len()
+        );
+        for video in listed {
+            let folder = video["video"].as_str().unwrap();
+            assert!(
+                folder.starts_with("fluid-train-rand/fluid_slides/")
+                    || folder.starts_with("fluid-train-rel/fluid_slides/"),
+                "{model}: {folder}"
+            );
+            let hash = video["outputs_sha256"].as_str().unwrap();
+            assert_eq!(hash.len(), 64, "{model}: {video}");
+            assert!(
+                !demo.iter().any(|d| d == hash),
+                "{model} learnt from a demo video: {video}"
+            );
+        }
+    }
+    let classes: Vec<&str> = detector["classes"]
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|name| name.as_str())
+        .collect();
+    assert_eq!(classes, ["stick", "container", "emitter", "fluid"]);
+}

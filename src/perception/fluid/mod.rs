@@ -159,11 +159,8 @@ mod tests {
     fn the_class_list_is_the_fluid_model_s() {
         let description =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/maskrcnn-fluid.json");
-        let Ok(classes) = super::super::classes::read_classes(&description) else {
-            // The model is trained outside the test suite; its description is checked once it
-            // is committed (tests/it/perception.rs checks the committed files exist).
-            return;
-        };
+        let classes = super::super::classes::read_classes(&description)
+            .expect("models/maskrcnn-fluid.json lists the classes");
         let names: Vec<&str> = classes.iter().map(|(_, name)| name.as_str()).collect();
         let ours: Vec<&str> = CLASSES.iter().map(|class| class.name).collect();
         assert_eq!(names, ours);
