@@ -90,8 +90,12 @@ pub fn scene_report(
     for video in videos {
         let (check, inference, truth) = check_scene(&video.dir, models)
             .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
+        let mut viscosity_evidence = json!(null);
         match inference {
-            Ok(inference) => properties.add(&video.id.0, &truth, &inference),
+            Ok(inference) => {
+                properties.add(&video.id.0, &truth, &inference);
+                viscosity_evidence = json!(inference.mask_viscosity);
+            }
             Err(error) => failed.push(json!({"video": video.id.0, "error": error.to_string()})),
         }
         total.sticks.add(check.sticks);
@@ -100,7 +104,11 @@ pub fn scene_report(
         total.fluids.add(check.fluids);
         total.end_error_sum += check.end_error_sum;
         entire += usize::from(check.entire());
-        per_video.push(json!({"video": video.id.0, "check": check}));
+        per_video.push(json!({
+            "video": video.id.0,
+            "check": check,
+            "viscosity_from_masks": viscosity_evidence,
+        }));
     }
     let mean_end_error = total.end_error_sum / total.sticks.right.max(1) as f64;
     Ok(json!({
