@@ -262,13 +262,7 @@ impl FluidBackend {
         })?;
         let (width, height, frame_count) = perceiver.frames();
         let model = perceived::camera_model(camera, (width, height));
-        let fluids: Vec<(String, u8)> = self
-            .annotation
-            .layout
-            .fluids
-            .iter()
-            .map(|fluid| (fluid.name.clone(), fluid.color))
-            .collect();
+        let fluids = seen::fluid_colors(&self.annotation.layout);
         seen_flow(perceiver, &model, &fluids, &frames_needed(frame_count))
     }
 

@@ -368,6 +368,15 @@ pub(crate) fn principal_segment(points: &[[f64; 2]]) -> Option<([f64; 2], [f64; 
     (start.iter().chain(&end).all(|v| v.is_finite()) && high > low).then_some((start, end))
 }
 
+/// The least and greatest x of `points` (infinities, low above high, when there are none).
+fn x_extent(points: &[[f64; 2]]) -> (f64, f64) {
+    points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), p| {
+            (low.min(p[0]), high.max(p[0]))
+        })
+}
+
 /// A container: `(name, colour, slot, slot count)`.
 type SeenContainer = (String, u8, usize, usize);
 
@@ -382,16 +391,7 @@ fn place_containers(
     let widths: Vec<f64> = placed
         .iter()
         .filter_map(|object| {
-            let low = object
-                .points
-                .iter()
-                .map(|p| p[0])
-                .fold(f64::INFINITY, f64::min);
-            let high = object
-                .points
-                .iter()
-                .map(|p| p[0])
-                .fold(f64::NEG_INFINITY, f64::max);
+            let (low, high) = x_extent(&object.points);
             (high > low).then_some(high - low)
         })
         .collect();
@@ -472,16 +472,7 @@ fn place_emitters(
         .filter_map(|object| {
             // The middle of the box's extent across: its pixel mean leans to whichever end
             // shows more.
-            let low = object
-                .points
-                .iter()
-                .map(|p| p[0])
-                .fold(f64::INFINITY, f64::min);
-            let high = object
-                .points
-                .iter()
-                .map(|p| p[0])
-                .fold(f64::NEG_INFINITY, f64::max);
+            let (low, high) = x_extent(&object.points);
             if high < low {
                 return None;
             }

@@ -16,7 +16,7 @@ use serde_json::json;
 use super::infer::masks::frames_needed;
 use super::infer::{FluidInference, InferenceScore, PerceivedFluidScene, infer_from_masks};
 use super::perceived::{camera_model, perceive_scene};
-use super::seen::seen_flow;
+use super::seen::{fluid_colors, seen_flow};
 use crate::dataset::VideoFolder;
 use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, StickRecord, VOCABULARY,
@@ -153,13 +153,7 @@ pub(crate) fn check_scene(
     check.unknown = seen.unknown;
     let (width, height, frame_count) = perceiver.frames();
     let model = camera_model(&camera, (width, height));
-    let fluids: Vec<(String, u8)> = seen
-        .annotation
-        .layout
-        .fluids
-        .iter()
-        .map(|fluid| (fluid.name.clone(), fluid.color))
-        .collect();
+    let fluids = fluid_colors(&seen.annotation.layout);
     let scene = PerceivedFluidScene::from_layout(&seen.annotation.layout);
     let inference = seen_flow(&mut perceiver, &model, &fluids, &frames_needed(frame_count))
         .and_then(|flow| {

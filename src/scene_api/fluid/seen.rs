@@ -12,6 +12,7 @@
 use indexmap::IndexMap;
 
 use super::perceived::FLUID_PLANE_Z;
+use crate::dataset::fluid::FluidLayout;
 use crate::perception::camera::CameraModel;
 use crate::perception::color::{pixel_features, unlike_wall, wall_color};
 use crate::perception::detection::{Detection, InstanceMask};
@@ -26,6 +27,15 @@ const REFERENCE_PIXELS: f64 = 480.0 * 270.0;
 /// Per fluid of the scene (in scene order), its pixels' centres on the plane `z = 0`, world
 /// units.
 pub(crate) type FluidPoints = IndexMap<String, Vec<[f64; 2]>>;
+
+/// The fluids of `layout` as [`seen_flow`] takes them: name and palette colour.
+pub(crate) fn fluid_colors(layout: &FluidLayout) -> Vec<(String, u8)> {
+    layout
+        .fluids
+        .iter()
+        .map(|fluid| (fluid.name.clone(), fluid.color))
+        .collect()
+}
 
 /// Each fluid's lifted pixels in the frames read.
 #[derive(Debug, Clone, Default, PartialEq)]
