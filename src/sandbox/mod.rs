@@ -14,7 +14,8 @@
 //! 2. **Around it** ([`Pool`]): programs run in worker processes (this binary started with
 //!    [`WORKER_ARGUMENT`], entering [`worker_main`]) under `RLIMIT_AS` and `RLIMIT_CPU`, with a
 //!    parent-side wall-clock kill for operations the VM cannot interrupt. A worker that dies
-//!    fails only its unit and is replaced.
+//!    fails only its unit and is replaced; a worker whose parent dies (a killed `run`) ends
+//!    itself, even inside a long host call.
 //!
 //! Budget defaults are documented on [`Budgets`], [`ValueLimits`] and [`WorkerLimits`].
 //!

@@ -37,7 +37,7 @@ use super::interpreter::RunReport;
 use super::limits::{Budgets, WorkerLimits};
 use super::protocol::{Request, WorkerMessage};
 use super::rlimit::signal_name;
-use super::worker::WORKER_ARGUMENT;
+use super::worker::{PARENT_VARIABLE, WORKER_ARGUMENT};
 
 /// Extra own time the parent allows before killing, for what happens around the program in
 /// the worker (reading the request, compiling, rebuilding an interpreter) and for scheduling.
@@ -458,6 +458,8 @@ impl WorkerProcess {
             .arg(limits)
             .env_clear()
             .envs(config.worker.environment.iter().cloned())
+            // The worker ends itself when this process is gone (see `worker::watch_parent`).
+            .env(PARENT_VARIABLE, std::process::id().to_string())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

@@ -5,7 +5,9 @@
 //! (`RLIMIT_AS`) and turns off core dumps; per request it sets `RLIMIT_CPU` to the CPU used so
 //! far plus the unit's budget. Programs run on one thread with a large stack, in one reused
 //! [`Sandbox`]; hosts come from the [`HostRegistry`], which memoises them per spec. The worker
-//! exits when stdin closes.
+//! exits when stdin closes, or when its parent dies: a killed `run` closes the workers' stdin,
+//! but a worker inside a long host call (a simulation) reads stdin only when the call returns,
+//! so a thread watches the parent ([`watch_parent`]) and ends the orphan at once.
 
 use std::io::{BufRead, Write};
 use std::process::ExitCode;
@@ -25,6 +27,16 @@ pub const WORKER_ARGUMENT: &str = "__sandbox-worker";
 /// Exit status of a worker that could not set itself up (limits, thread).
 const SETUP_FAILURE: u8 = 70;
 
+/// Environment variable holding the pool process's id: the worker's parent, whose death ends
+/// the worker. Without it the worker watches the parent it started with.
+pub(super) const PARENT_VARIABLE: &str = "CONTPHY_SANDBOX_PARENT";
+
+/// Exit status of a worker whose parent died (nobody reads it; for `ps` and tests).
+const ORPHANED: i32 = 71;
+
+/// How often the worker checks that its parent is alive.
+const PARENT_CHECK: Duration = Duration::from_millis(200);
+
 /// Entry point of a worker process; call it from `main` when `argv[1]` is [`WORKER_ARGUMENT`],
 /// before any other argument parsing. `argv[2]`, if present, is the [`WorkerLimits`] as JSON.
 /// `registry` builds the hosts programs may name; it runs on the interpreter thread, because
@@ -40,6 +52,9 @@ pub fn worker_main(registry: impl FnOnce() -> HostRegistry + Send + 'static) -> 
     if let Err(error) = rlimit::disable_core_dumps() {
         return setup_failure(&format!("cannot disable core dumps: {error}"));
     }
+    if let Err(error) = watch_parent() {
+        return setup_failure(&format!("cannot start the parent watch: {error}"));
+    }
     // The address-space cap is set on the interpreter thread, after its large stack is
     // mapped: the stack counts against the cap like any mapping, but the thread always starts.
     let serving = std::thread::Builder::new()
@@ -51,6 +66,29 @@ pub fn worker_main(registry: impl FnOnce() -> HostRegistry + Send + 'static) -> 
         Ok(Err(_panic)) => ExitCode::from(SETUP_FAILURE),
         Err(error) => setup_failure(&format!("cannot start the interpreter thread: {error}")),
     }
+}
+
+/// Starts a thread that ends this process when its parent dies. An orphan is re-parented (to
+/// init or a subreaper), so a parent id other than the pool's ([`PARENT_VARIABLE`], which also
+/// covers a parent that died before this check first ran) means the parent is gone. Polling,
+/// rather than `PR_SET_PDEATHSIG`: that signal fires when the parent *thread* that spawned the
+/// worker exits, and the pool spawns replacement workers from short-lived threads.
+fn watch_parent() -> std::io::Result<()> {
+    let parent = std::env::var(PARENT_VARIABLE)
+        .ok()
+        .and_then(|pid| pid.parse::<u32>().ok())
+        .unwrap_or_else(std::os::unix::process::parent_id);
+    std::thread::Builder::new()
+        .name("sandbox-parent-watch".into())
+        .spawn(move || {
+            loop {
+                std::thread::sleep(PARENT_CHECK);
+                if std::os::unix::process::parent_id() != parent {
+                    std::process::exit(ORPHANED);
+                }
+            }
+        })
+        .map(drop)
 }
 
 fn setup_failure(message: &str) -> ExitCode {

@@ -88,3 +88,41 @@ fn failures_are_typed_with_their_stage_and_exit_1() {
     assert_eq!(output["error"]["stage"], "sandbox", "{output}");
     assert_eq!(output["error"]["kind"], "timeout", "{output}");
 }
+
+/// A sandbox worker whose parent dies ends on its own, even though its stdin stays open (a
+/// killed `run` whose worker is inside a long simulation): the shell that starts it exits at
+/// once, leaving it orphaned with a FIFO it holds open both ways as stdin.
+#[test]
+fn an_orphaned_sandbox_worker_exits() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("stdin");
+    let output = std::process::Command::new("sh")
+        .args([
+            "-c",
+            r#"mkfifo "$2" || exit 1
+CONTPHY_SANDBOX_PARENT=$$ "$1" __sandbox-worker <>"$2" >/dev/null 2>&1 &
+echo $!"#,
+            "sh",
+            env!("CARGO_BIN_EXE_contphy-eval"),
+            fifo.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let pid = stdout(&output).trim().to_string();
+    assert!(!pid.is_empty(), "no pid: {}", stderr(&output));
+    let running = || {
+        fs_err::read_to_string(format!("/proc/{pid}/stat"))
+            // A reaped process has no entry; an unreaped one is a zombie (state `Z`).
+            .is_ok_and(|stat| {
+                stat.rsplit(')')
+                    .next()
+                    .is_some_and(|rest| !rest.trim_start().starts_with('Z'))
+            })
+    };
+    // A liveness bound, not a speed target: the worker checks every 200 ms.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_mins(1);
+    while running() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    assert!(!running(), "worker {pid} still runs after its parent died");
+}
