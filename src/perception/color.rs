@@ -300,10 +300,29 @@ impl ColorModel {
     /// highest likelihood (ties: the smaller id): cheap enough for every pixel of a mask, where
     /// the neighbour vote of [`ColorModel::classify`] is for one feature per object.
     pub fn likeliest(&self, features: &ColorFeatures, allowed: &[u8]) -> Option<u8> {
+        self.log_likelihoods(features, allowed)
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
+            .map(|(_, id)| id)
+    }
+
+    /// The colours among `allowed` (every colour when empty), likeliest first by their
+    /// Gaussians (ties: the smaller id).
+    pub fn ranked(&self, features: &ColorFeatures, allowed: &[u8]) -> Vec<u8> {
+        let mut scored: Vec<(f64, u8)> = self.log_likelihoods(features, allowed).collect();
+        scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        scored.into_iter().map(|(_, id)| id).collect()
+    }
+
+    /// Each admitted prototype's finite log-likelihood of `features`, with its palette id.
+    fn log_likelihoods<'a>(
+        &'a self,
+        features: &'a ColorFeatures,
+        allowed: &'a [u8],
+    ) -> impl Iterator<Item = (f64, u8)> + 'a {
         self.prototypes
             .iter()
-            .filter(|p| allowed.is_empty() || allowed.contains(&p.palette_id))
-            .map(|p| {
+            .filter(move |p| allowed.is_empty() || allowed.contains(&p.palette_id))
+            .map(move |p| {
                 let log_likelihood: f64 = (0..3)
                     .map(|c| {
                         -0.5 * ((features[c] - p.mean[c]).powi(2) / p.variance[c]
@@ -313,8 +332,6 @@ impl ColorModel {
                 (log_likelihood, p.palette_id)
             })
             .filter(|(l, _)| l.is_finite())
-            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
-            .map(|(_, id)| id)
     }
 }
 

@@ -47,10 +47,48 @@ impl NameQuery {
                 .color
                 .as_ref()
                 .is_none_or(|color| *color == object.color)
-            && self
-                .attributes
-                .iter()
-                .all(|(attribute, value)| object.attribute(attribute) == Some(value.as_str()))
+            && self.attributes_match(object)
+    }
+
+    /// Whether `object` is, by its second-choice colours, what the query names: everything but
+    /// the colour matches, and the query's colour is one of [`SceneObjectInfo::other_colors`].
+    /// Returns the colour's rank there (0: the likeliest second choice).
+    pub fn second_choice(
+        &self,
+        object: &SceneObjectInfo,
+        vocabulary: &Vocabulary,
+    ) -> Option<usize> {
+        let color = self.color.as_ref()?;
+        let rank = object
+            .other_colors
+            .iter()
+            .position(|other| other == color)?;
+        let recoloured = NameQuery {
+            color: None,
+            ..self.clone()
+        };
+        recoloured.matches(object, vocabulary).then_some(rank)
+    }
+
+    /// When no object matches the query in its colour: the one object of `objects` that has the
+    /// query's colour as its likeliest second choice ([`NameQuery::second_choice`]; ties: the
+    /// first in scene order), if any. Never two: a program asking for one red stick gets one.
+    pub fn second_choice_object(
+        &self,
+        objects: &[SceneObjectInfo],
+        vocabulary: &Vocabulary,
+    ) -> Option<super::object::ObjectId> {
+        objects
+            .iter()
+            .filter_map(|object| Some((self.second_choice(object, vocabulary)?, object.id)))
+            .min_by_key(|(rank, id)| (*rank, id.0))
+            .map(|(_, id)| id)
+    }
+
+    fn attributes_match(&self, object: &SceneObjectInfo) -> bool {
+        self.attributes
+            .iter()
+            .all(|(attribute, value)| object.attribute(attribute) == Some(value.as_str()))
     }
 }
 
@@ -294,6 +332,47 @@ mod tests {
                 .collect(),
             foreign_kind: false,
         }
+    }
+
+    #[test]
+    fn a_colour_nobody_was_read_in_finds_the_object_whose_second_choice_it_is() {
+        use super::super::object::ObjectId;
+        let stick = |id: u32, color: &str, others: &[&str]| {
+            let mut object = SceneObjectInfo::new(
+                ObjectId(id),
+                &format!("{color} Stick"),
+                color,
+                "stick",
+                &[],
+                &fluid::VOCABULARY,
+            );
+            object.other_colors = others.iter().map(|c| (*c).to_string()).collect();
+            object
+        };
+        // A red stick read as brown (red its first second choice), a white one read as gray.
+        let objects = [
+            stick(0, "brown", &["orange", "red"]),
+            stick(1, "gray", &["white"]),
+            stick(2, "blue", &["red"]),
+        ];
+        let words = Words {
+            scenario: "fluid",
+            own: &fluid::VOCABULARY,
+            all: &ALL,
+        };
+        let find = |name: &str| {
+            parse_object_query(name, words)
+                .unwrap()
+                .second_choice_object(&objects, &fluid::VOCABULARY)
+        };
+        // Rank 0 wins over the brown stick's rank 1.
+        assert_eq!(find("red stick"), Some(ObjectId(2)));
+        assert_eq!(find("white stick"), Some(ObjectId(1)));
+        assert_eq!(find("orange stick"), Some(ObjectId(0)));
+        assert_eq!(find("green stick"), None);
+        // The kind must still match, and a query without a colour has no second choice.
+        assert_eq!(find("white container"), None);
+        assert_eq!(find("stick"), None);
     }
 
     #[test]

@@ -27,6 +27,11 @@ pub struct SceneObjectInfo {
     /// only objects that were found.
     #[serde(skip)]
     pub visible: bool,
+    /// Colour words perception gives this object as second choices, likeliest first
+    /// (`--perception maskrcnn`): `find` names the object by one of them when no object was read
+    /// in that colour (a red stick read as brown is still the red stick a program asks for).
+    #[serde(skip)]
+    pub other_colors: Vec<String>,
 }
 
 /// One attribute of an object.
@@ -87,6 +92,7 @@ impl SceneObjectInfo {
             kind,
             attributes: all,
             visible: true,
+            other_colors: Vec::new(),
         }
     }
 

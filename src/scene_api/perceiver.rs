@@ -30,8 +30,8 @@ use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
 use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
 use crate::perception::closer::look_closer;
-use crate::perception::color::{ColorModel, name_colors};
-use crate::perception::detection::{Detection, box_iou};
+use crate::perception::color::{ColorModel, features, name_colors, wall_color};
+use crate::perception::detection::{Detection, InstanceMask, box_iou};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::distinct::separate_class_colors;
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
@@ -285,6 +285,30 @@ impl Perceiver {
         }
         scene.objects.sort_by(|a, b| a.0.cmp(&b.0));
         Ok(scene)
+    }
+
+    /// The colours `class` can have, likeliest first for the pixels of `mask` in `frame` (the
+    /// wall read round `masks`, the frame's detections) by the colour model's Gaussians. Empty
+    /// when the class is unknown or too few pixels are read.
+    pub fn color_ranking(
+        &self,
+        frame: &RgbFrame,
+        mask: &InstanceMask,
+        masks: &[&InstanceMask],
+        class: Class,
+    ) -> Result<Vec<u8>, ApiError> {
+        let Some(table) = self.table.as_ref() else {
+            return Ok(Vec::new());
+        };
+        let Some(wall) = wall_color(frame, masks) else {
+            return Ok(Vec::new());
+        };
+        let Some(features) = features(frame, mask, wall) else {
+            return Ok(Vec::new());
+        };
+        with_models(&self.models, self.classes, |_, colors| {
+            Ok(colors.ranked(&features, table.colors(class)))
+        })
     }
 
     /// The colour model's Gaussians (without its fitting samples): for reading colours pixel by

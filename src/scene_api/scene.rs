@@ -372,7 +372,8 @@ impl Scene {
     }
 
     /// `find(name)`: the objects matching every colour, kind and attribute word of `name`, in
-    /// scene order; empty when nothing matches.
+    /// scene order; when none matches and `name` has a colour, the object perception gave that
+    /// colour as its likeliest second choice ([`SceneObjectInfo::other_colors`]); else empty.
     pub fn find(&self, name: &str) -> Result<Vec<ObjectId>, ApiError> {
         self.count(|w| w.api_calls += 1);
         let words = Words {
@@ -385,11 +386,18 @@ impl Scene {
             return Ok(Vec::new());
         }
         let vocabulary = self.parts.vocabulary;
-        Ok(self
-            .objects()?
+        let objects = self.objects()?;
+        let found: Vec<ObjectId> = objects
             .iter()
             .filter(|object| query.matches(object, vocabulary))
             .map(|object| object.id)
+            .collect();
+        if !found.is_empty() || query.color.is_none() {
+            return Ok(found);
+        }
+        Ok(query
+            .second_choice_object(objects, vocabulary)
+            .into_iter()
             .collect())
     }
 

@@ -43,6 +43,7 @@ mod reading_check;
 mod runs;
 mod seen;
 pub mod simulate;
+mod stick_masks;
 
 #[cfg(test)]
 mod tests;
@@ -180,6 +181,11 @@ impl FluidBackend {
                 backend
             }
         };
+        for object in &mut backend.objects {
+            if let Some(others) = perceived.other_colors.get(&object.name) {
+                object.other_colors.clone_from(others);
+            }
+        }
         backend.perceiver = Some(Mutex::new(perceiver));
         Ok(backend)
     }
@@ -350,7 +356,8 @@ impl FluidBackend {
         self.roles.get(object.id.0 as usize)
     }
 
-    /// The objects a description names (`find`'s words, in this scene's vocabulary).
+    /// The objects a description names (`find`'s words, in this scene's vocabulary, with its
+    /// fall-back on second-choice colours).
     fn resolve(&self, description: &str, function: &str) -> Result<Vec<ObjectId>, ApiError> {
         const OWN: [&Vocabulary; 1] = [&VOCABULARY];
         let words = Words {
@@ -365,11 +372,19 @@ impl FluidBackend {
                 reason.strip_prefix("find: ").unwrap_or(&reason)
             ))
         })?;
-        Ok(self
+        let found: Vec<ObjectId> = self
             .objects
             .iter()
             .filter(|object| query.matches(object, &VOCABULARY))
             .map(|object| object.id)
+            .collect();
+        if !found.is_empty() {
+            return Ok(found);
+        }
+        // As `find`: a colour no object was read in names the object whose second choice it is.
+        Ok(query
+            .second_choice_object(&self.objects, &VOCABULARY)
+            .into_iter()
             .collect())
     }
 

@@ -10,7 +10,8 @@
 //!
 //! How each object is placed (world units, on the scene's plane; the release lays out every
 //! fluid scene on `z = 0`, its boxes 0.2 deep, so a box's visible front face is at `z = −0.1`):
-//! * a **stick**: its mask's pixels lifted onto the front face's plane, their principal axis the
+//! * a **stick**: its earliest full-size mask's pixels (before fluid runs along it) that are unlike
+//!   the wall, lifted onto the front face's plane, their principal axis the
 //!   stick's, their extent along it its length; its thickness is the release's (0.15), which a
 //!   4-pixel-wide mask cannot measure better;
 //! * a **container**: its mask's lifted extent, fitted to the release's container layout (2–4
@@ -44,6 +45,8 @@ use crate::perception::frames::RgbFrame;
 use crate::perception::tracking::Track;
 use crate::scene_api::ApiError;
 use crate::scene_api::perceiver::Perceiver;
+
+use super::stick_masks::{earliest_full_mask, largest_mask, stick_second_colors};
 
 /// The plane of the boxes' visible front faces, world z.
 const FRONT_FACE_Z: f64 = -0.1;
@@ -86,6 +89,8 @@ pub(crate) struct PerceivedFluid {
     pub names: Vec<Option<String>>,
     /// What the video could not tell, one line per object.
     pub unknown: Vec<String>,
+    /// Object name → its second-choice colour words, likeliest first (sticks only).
+    pub other_colors: BTreeMap<String, Vec<String>>,
 }
 
 /// A track of a static class placed in the world.
@@ -93,7 +98,7 @@ pub(crate) struct PerceivedFluid {
 struct Placed {
     track: usize,
     color: u8,
-    /// The lifted pixels of its largest mask.
+    /// The lifted pixels of its placing mask (a stick: its earliest full mask; else its largest).
     points: Vec<[f64; 2]>,
 }
 
@@ -142,14 +147,15 @@ pub(crate) fn perceive_scene(
             annotation: annotation(Vec::new(), Vec::new(), &[], camera),
             names: vec![None; perceiver.first_tracks().len()],
             unknown: vec!["the video has no frames".to_string()],
+            other_colors: BTreeMap::new(),
         });
     };
-    // The frames of the sticks' largest masks, whose pixels are read by colour.
+    // The frames of the sticks' placing masks, whose pixels are read by colour.
     let stick_frames: Vec<usize> = perceiver
         .first_tracks()
         .iter()
         .filter(|track| classes.kind(track.class) == "stick")
-        .filter_map(|track| largest_mask(track, perceiver.first_detections()))
+        .filter_map(|track| earliest_full_mask(track, perceiver.first_detections()))
         .map(|(frame, _)| frame)
         .collect::<std::collections::BTreeSet<usize>>()
         .into_iter()
@@ -172,6 +178,7 @@ pub(crate) fn perceive_scene(
     };
     let mut perceived = read_scene(pass, &model, camera);
     perceived.annotation.frame_count = frame_count;
+    perceived.other_colors = stick_second_colors(perceiver, &perceived.names, &frames)?;
     Ok(perceived)
 }
 
@@ -195,7 +202,11 @@ pub(crate) fn read_scene(
             .enumerate()
             .filter(|(_, track)| classes.kind(track.class) == kind)
             .filter_map(|(index, track)| {
-                let (frame, mask) = largest_mask(track, detections)?;
+                let (frame, mask) = if kind == "stick" {
+                    earliest_full_mask(track, detections)?
+                } else {
+                    largest_mask(track, detections)?
+                };
                 let points = match frames.get(&frame) {
                     Some(rgb) if kind == "stick" => {
                         let masks: Vec<&InstanceMask> = detections
@@ -232,22 +243,8 @@ pub(crate) fn read_scene(
         annotation: annotation(sticks, containers, &emitters, camera),
         names,
         unknown,
+        other_colors: BTreeMap::new(),
     }
-}
-
-/// The largest mask among a track's observations.
-fn largest_mask<'a>(
-    track: &Track,
-    detections: &'a BTreeMap<usize, Vec<Detection>>,
-) -> Option<(usize, &'a InstanceMask)> {
-    track
-        .observations
-        .iter()
-        .filter_map(|point| {
-            let mask = &detections.get(&point.frame)?.get(point.detection)?.mask;
-            Some((point.frame, mask))
-        })
-        .max_by_key(|(_, mask)| mask.area())
 }
 
 /// A mask pixel belongs to its object when its colour is at least this unlike the wall's

@@ -66,6 +66,23 @@ pub(crate) struct SceneCheck {
     pub unknown: Vec<String>,
     /// Each object read wrong, and how ("stick `Red Stick`: ends 0.31 units off").
     pub misread: Vec<String>,
+    /// Sticks read in a wrong colour: how many, and how many of them `find` still names by
+    /// their true colour, the colour model's likeliest second choice for them.
+    pub recoloured_sticks: SecondChoices,
+}
+
+/// How far a stick read in a wrong colour may be from the annotated one it stands in for (its
+/// ends, either way round), units: a stick's length.
+const STAND_IN_RADIUS: f64 = 1.5;
+
+/// Sticks read in a wrong colour, and those their second choice names right.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub(crate) struct SecondChoices {
+    /// Annotated sticks read in place but in another colour.
+    pub recoloured: usize,
+    /// Of them, those whose true colour is the likeliest second choice of no other stick and
+    /// theirs (what `find` returns for the true name).
+    pub found_by_second_choice: usize,
 }
 
 impl SceneCheck {
@@ -103,6 +120,9 @@ pub fn scene_report(
         total.emitters.add(check.emitters);
         total.fluids.add(check.fluids);
         total.end_error_sum += check.end_error_sum;
+        total.recoloured_sticks.recoloured += check.recoloured_sticks.recoloured;
+        total.recoloured_sticks.found_by_second_choice +=
+            check.recoloured_sticks.found_by_second_choice;
         entire += usize::from(check.entire());
         per_video.push(json!({
             "video": video.id.0,
@@ -118,6 +138,7 @@ pub fn scene_report(
         "emitters": total.emitters,
         "fluids": total.fluids,
         "mean_stick_end_error_units": mean_end_error,
+        "recoloured_sticks": total.recoloured_sticks,
         "videos_read_entirely": entire,
         "per_video": per_video,
         "properties_from_masks": properties.json(),
@@ -150,6 +171,12 @@ pub(crate) fn check_scene(
     let mut perceiver = Perceiver::open(video_dir, models, PERCEPTION.classes, &VOCABULARY)?;
     let seen = perceive_scene(&mut perceiver, &camera)?;
     let mut check = compare(&truth.layout, &seen.annotation.layout);
+    check.recoloured_sticks = second_choices(
+        &truth.layout,
+        &seen.annotation.layout,
+        &seen.other_colors,
+        &mut check.misread,
+    );
     check.unknown = seen.unknown;
     let (width, height, frame_count) = perceiver.frames();
     let model = camera_model(&camera, (width, height));
@@ -163,6 +190,82 @@ pub(crate) fn check_scene(
     Ok((check, inference, truth))
 }
 
+/// The annotated sticks read in place but in another colour, and whether `find` names each by
+/// its true colour through the seen sticks' second choices (`other_colors`); says which in
+/// `misread`.
+fn second_choices(
+    truth: &FluidLayout,
+    seen: &FluidLayout,
+    other_colors: &std::collections::BTreeMap<String, Vec<String>>,
+    misread: &mut Vec<String>,
+) -> SecondChoices {
+    let mut tally = SecondChoices::default();
+    let color_word = |name: &str| {
+        crate::dataset::fluid::parse_fluid_object_name(name)
+            .and_then(|parsed| parsed.color)
+            .map(str::to_lowercase)
+    };
+    for annotated in &truth.sticks {
+        if seen.sticks.iter().any(|s| s.name == annotated.name) {
+            continue;
+        }
+        // The seen stick nearest its place whose name no annotated stick has (its ends may be
+        // off too: that is counted in `sticks`).
+        let Some(stand_in) = seen
+            .sticks
+            .iter()
+            .filter(|s| !truth.sticks.iter().any(|t| t.name == s.name))
+            .filter(|s| stick_error(annotated, s) <= STAND_IN_RADIUS)
+            .min_by(|a, b| stick_error(annotated, a).total_cmp(&stick_error(annotated, b)))
+        else {
+            continue;
+        };
+        let Some(true_color) = color_word(&annotated.name) else {
+            continue;
+        };
+        tally.recoloured += 1;
+        // What `find` does: of the sticks with the true colour among their second choices, the
+        // one where it ranks highest (ties: scene order).
+        let chosen = seen
+            .sticks
+            .iter()
+            .filter_map(|s| {
+                let rank = other_colors
+                    .get(&s.name)?
+                    .iter()
+                    .position(|c| *c == true_color)?;
+                Some((rank, &s.name))
+            })
+            .min_by_key(|(rank, _)| *rank)
+            .map(|(_, name)| name);
+        let found = chosen == Some(&stand_in.name);
+        tally.found_by_second_choice += usize::from(found);
+        misread.push(format!(
+            "stick `{}` read as `{}`: {}",
+            annotated.name,
+            stand_in.name,
+            if found {
+                "found by its second choice".to_string()
+            } else {
+                format!(
+                    "second choices {}",
+                    other_colors
+                        .get(&stand_in.name)
+                        .map_or_else(|| "none".to_string(), |c| c.join(", "))
+                )
+            }
+        ));
+    }
+    tally
+}
+
+/// How far apart two sticks' ends are, either way round, units.
+fn stick_error(a: &StickRecord, b: &StickRecord) -> f64 {
+    let straight = distance(a.start, b.start).max(distance(a.end, b.end));
+    let crossed = distance(a.start, b.end).max(distance(a.end, b.start));
+    straight.min(crossed)
+}
+
 fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
@@ -171,11 +274,6 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
     let mut check = SceneCheck::default();
     // Sticks: both ends in place, either way round.
-    let stick_error = |a: &StickRecord, b: &StickRecord| {
-        let straight = distance(a.start, b.start).max(distance(a.end, b.end));
-        let crossed = distance(a.start, b.end).max(distance(a.end, b.start));
-        straight.min(crossed)
-    };
     check.sticks.annotated = truth.sticks.len();
     for stick in &seen.sticks {
         match truth.sticks.iter().find(|t| t.name == stick.name) {
