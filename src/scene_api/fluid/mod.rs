@@ -181,11 +181,7 @@ impl FluidBackend {
                 backend
             }
         };
-        for object in &mut backend.objects {
-            if let Some(others) = perceived.other_colors.get(&object.name) {
-                object.other_colors.clone_from(others);
-            }
-        }
+        attach_other_colors(&mut backend.objects, &perceived.other_colors);
         backend.perceiver = Some(Mutex::new(perceiver));
         Ok(backend)
     }
@@ -449,6 +445,19 @@ impl FluidBackend {
             )));
         }
         Ok(vec![Some(first_density), Some(second_density)])
+    }
+}
+
+/// Gives each object perception read its next-likeliest colours (`other_colors`, keyed by the
+/// name it was read under), which `find` falls back on when no object has the colour asked for.
+fn attach_other_colors(
+    objects: &mut [SceneObjectInfo],
+    other_colors: &std::collections::BTreeMap<String, Vec<String>>,
+) {
+    for object in objects {
+        if let Some(others) = other_colors.get(&object.name) {
+            object.other_colors.clone_from(others);
+        }
     }
 }
 

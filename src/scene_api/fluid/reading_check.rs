@@ -17,11 +17,13 @@ use super::infer::masks::frames_needed;
 use super::infer::{FluidInference, InferenceScore, PerceivedFluidScene, infer_from_masks};
 use super::perceived::{camera_model, perceive_scene};
 use super::seen::{fluid_colors, seen_flow};
+use super::{attach_other_colors, scene_objects};
 use crate::dataset::VideoFolder;
 use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, StickRecord, VOCABULARY,
 };
 use crate::perception::fluid::PERCEPTION;
+use crate::scene_api::find::NameQuery;
 use crate::scene_api::perceiver::Perceiver;
 use crate::scene_api::{ApiError, PerceptionModels};
 
@@ -80,8 +82,8 @@ const STAND_IN_RADIUS: f64 = 1.5;
 pub(crate) struct SecondChoices {
     /// Annotated sticks read in place but in another colour.
     pub recoloured: usize,
-    /// Of them, those whose true colour is the likeliest second choice of no other stick and
-    /// theirs (what `find` returns for the true name).
+    /// Of them, those `find` still returns for their true name: of the sticks with the true
+    /// colour as a second choice, this stick is where it ranks highest.
     pub found_by_second_choice: usize,
 }
 
@@ -200,6 +202,8 @@ fn second_choices(
     misread: &mut Vec<String>,
 ) -> SecondChoices {
     let mut tally = SecondChoices::default();
+    let (mut objects, _) = scene_objects(seen);
+    attach_other_colors(&mut objects, other_colors);
     let color_word = |name: &str| {
         crate::dataset::fluid::parse_fluid_object_name(name)
             .and_then(|parsed| parsed.color)
@@ -224,20 +228,16 @@ fn second_choices(
             continue;
         };
         tally.recoloured += 1;
-        // What `find` does: of the sticks with the true colour among their second choices, the
-        // one where it ranks highest (ties: scene order).
-        let chosen = seen
-            .sticks
-            .iter()
-            .filter_map(|s| {
-                let rank = other_colors
-                    .get(&s.name)?
-                    .iter()
-                    .position(|c| *c == true_color)?;
-                Some((rank, &s.name))
-            })
-            .min_by_key(|(rank, _)| *rank)
-            .map(|(_, name)| name);
+        // What `find` does when no stick was read in the true colour.
+        let query = NameQuery {
+            color: Some(true_color),
+            kind: Some("stick".to_string()),
+            ..NameQuery::default()
+        };
+        let chosen = query
+            .second_choice_object(&objects, &VOCABULARY)
+            .and_then(|id| objects.iter().find(|object| object.id == id))
+            .map(|object| &object.name);
         let found = chosen == Some(&stand_in.name);
         tally.found_by_second_choice += usize::from(found);
         misread.push(format!(
