@@ -1,5 +1,5 @@
-//! Scene API errors. `Misuse` and `Unavailable` become a Python `SceneApiError` that the program
-//! may catch; `Data` means the video's files are broken and fails the unit at stage `scene_api`.
+//! Scene API errors. `Misuse`, `Unavailable` and `NotSeen` become a Python `SceneApiError` (or
+//! one of its subclasses) that the program may catch; `Data` means the video's files are broken and fails the unit at stage `scene_api`.
 
 use crate::dataset::DatasetError;
 
@@ -12,6 +12,11 @@ pub enum ApiError {
     /// The call is well formed but this video cannot answer it (no such counterfactual run...).
     #[error("{0}")]
     Unavailable(String),
+    /// A well-formed description names no object perception read from the video's pixels: the
+    /// detector missed the object or read it in another colour. (Under annotation perception
+    /// every object is known, so naming an absent one is `Misuse`.)
+    #[error("{0}")]
+    NotSeen(String),
     /// The video's files could not be read or are malformed (the message carries the cause
     /// chain, so the error can be memoised and replayed to every later call).
     #[error("cannot load the scene: {0}")]
@@ -32,11 +37,12 @@ impl From<DatasetError> for ApiError {
 }
 
 impl ApiError {
-    /// A short stable name for reports: `misuse`, `unavailable` or `data`.
+    /// A short stable name for reports: `misuse`, `unavailable`, `not_seen` or `data`.
     pub fn kind(&self) -> &'static str {
         match self {
             ApiError::Misuse(_) => "misuse",
             ApiError::Unavailable(_) => "unavailable",
+            ApiError::NotSeen(_) => "not_seen",
             ApiError::Data(_) => "data",
         }
     }

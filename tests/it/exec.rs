@@ -89,6 +89,46 @@ fn failures_are_typed_with_their_stage_and_exit_1() {
     assert_eq!(output["error"]["kind"], "timeout", "{output}");
 }
 
+/// A description that names nothing is the program's misuse when every object is known (annotation
+/// perception), and a perception miss when the objects were read from pixels: the question may
+/// name an object the detector missed or read in another colour.
+#[test]
+fn naming_an_absent_object_is_misuse_or_a_perception_miss() {
+    let video = root().join("eval/demo/fluid_slides/0");
+    let program = root().join("tests/fixtures/programs/fluid_absent_container.py");
+    for (perception, kind, class) in [
+        ("annotation", "misuse", "SceneApiError"),
+        ("maskrcnn", "not_seen", "SceneNotSeenError"),
+    ] {
+        let output = contphy(
+            &root(),
+            &[
+                "exec",
+                "--video",
+                video.to_str().unwrap(),
+                "--program",
+                program.to_str().unwrap(),
+                "--perception",
+                perception,
+            ],
+        );
+        let value: Value = serde_json::from_str(&stdout(&output)).unwrap_or(Value::Null);
+        assert_eq!(output.status.code(), Some(1), "{perception}: {value}");
+        assert_eq!(
+            value["error"]["stage"], "scene_api",
+            "{perception}: {value}"
+        );
+        assert_eq!(value["error"]["kind"], kind, "{perception}: {value}");
+        let message = value["error"]["message"].as_str().unwrap_or_default();
+        assert!(
+            message.contains(&format!(
+                "`{class}`: happen: the target of 'entering' names no container"
+            )) && message.contains("the containers are: purple container, pink container"),
+            "{perception}: {message}"
+        );
+    }
+}
+
 /// A sandbox worker whose parent dies ends on its own, even though its stdin stays open (a
 /// killed `run` whose worker is inside a long simulation): the shell that starts it exits at
 /// once, leaving it orphaned with a FIFO it holds open both ways as stdin.

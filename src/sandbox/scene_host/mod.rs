@@ -70,19 +70,21 @@ impl SceneHost {
 }
 
 /// Exception classes: `SceneApiError` (misuse), and its subclasses for calls the video cannot
-/// answer and for broken video files. Their names tell the pipeline the failure's kind.
-const ERROR_CLASSES: [(&str, &str); 3] = [
-    ("misuse", "SceneApiError"),
-    ("unavailable", "SceneUnavailableError"),
-    ("data", "SceneDataError"),
+/// answer (among them objects perception did not see) and for broken video files. Their names
+/// tell the pipeline the failure's kind. Each row: kind, class name, index of the base class.
+const ERROR_CLASSES: [(&str, &str, usize); 4] = [
+    ("misuse", "SceneApiError", 0),
+    ("unavailable", "SceneUnavailableError", 0),
+    ("data", "SceneDataError", 0),
+    ("not_seen", "SceneNotSeenError", 1),
 ];
 
 /// The failure kind of an uncaught scene exception class.
 pub fn scene_error_kind(class_name: &str) -> Option<&'static str> {
     ERROR_CLASSES
         .iter()
-        .find(|(_, name)| *name == class_name)
-        .map(|(kind, _)| *kind)
+        .find(|(_, name, _)| *name == class_name)
+        .map(|(kind, _, _)| *kind)
 }
 
 impl Host for SceneHost {
@@ -97,9 +99,16 @@ impl Host for SceneHost {
             .clone()
             .downcast::<PyType>()
             .map_err(|_| context.vm.new_runtime_error("SceneApiError is not a class"))?;
-        let mut classes = vec![("misuse", base_type.clone())];
-        for (kind, name) in &ERROR_CLASSES[1..] {
-            let base_type = base_type.clone();
+        let mut classes = vec![("misuse", base_type)];
+        for (kind, name, parent) in &ERROR_CLASSES[1..] {
+            let base_type = classes
+                .get(*parent)
+                .map(|(_, class)| class.clone())
+                .ok_or_else(|| {
+                    context
+                        .vm
+                        .new_runtime_error("scene error base is not defined")
+                })?;
             let class = context.cached(&format!("scene/{name}"), move |vm| {
                 Ok(vm
                     .ctx
@@ -306,6 +315,12 @@ answer = execute_command(video)
             (
                 "s = SoftScene(video, 'rope')\ntry:\n    s.find('banana')\nexcept SceneApiError as e:\n    answer = 'caught'",
                 "\"caught\"",
+            ),
+            (
+                // A perception miss is a kind of unavailability: a program that catches
+                // `SceneUnavailableError` (as the API spec describes) catches it too.
+                "answer = [issubclass(SceneNotSeenError, SceneUnavailableError), issubclass(SceneUnavailableError, SceneApiError), issubclass(SceneDataError, SceneUnavailableError)]",
+                "[true,true,false]",
             ),
         ];
         for (program, expected) in cases {

@@ -237,7 +237,7 @@ impl FluidBackend {
             .collect();
         match (objects.as_slice(), of_kind.as_slice()) {
             (_, [one]) => Ok(one),
-            ([], _) => Err(misuse(format!(
+            ([], _) => Err(self.named_nothing(format!(
                 "{function}: `{attribute}` names no object of this scene; {}",
                 self.names_of_kind(kind)
             ))),
@@ -335,7 +335,7 @@ impl FluidBackend {
                     )))
                 }
             }
-            [] => Err(misuse(format!(
+            [] => Err(self.named_nothing(format!(
                 "happen: the target of '{action}' names no {kind} (an empty list: `find` found no such object); {}",
                 self.names_of_kind(kind)
             ))),

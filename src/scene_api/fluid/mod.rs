@@ -384,6 +384,19 @@ impl FluidBackend {
             .collect())
     }
 
+    /// The error for a well-formed description that names no object: under perception from
+    /// pixels the detector may have missed the object or read it in another colour (`NotSeen`,
+    /// a perception miss); under annotation perception every object is known (`Misuse`).
+    fn named_nothing(&self, message: String) -> ApiError {
+        if self.perceiver.is_some() {
+            ApiError::NotSeen(format!(
+                "{message}; perception from pixels may have missed it or read it in another colour"
+            ))
+        } else {
+            misuse(message)
+        }
+    }
+
     /// The short names of the scene's objects of `kind`, for messages (`brown stick, cyan
     /// stick`).
     fn names_of_kind(&self, kind: &str) -> String {
