@@ -46,7 +46,7 @@ use crate::perception::tracking::Track;
 use crate::scene_api::ApiError;
 use crate::scene_api::perceiver::Perceiver;
 
-use super::stick_masks::{earliest_full_mask, largest_mask, stick_second_colors};
+use super::stick_masks::{earliest_full_mask, largest_mask, second_color_frames, second_colors};
 
 /// The plane of the boxes' visible front faces, world z.
 const FRONT_FACE_Z: f64 = -0.1;
@@ -141,7 +141,7 @@ pub(crate) fn perceive_scene(
     perceiver.first_pass()?;
     let (width, height, frame_count) = perceiver.frames();
     let model = camera_model(camera, (width, height));
-    let Some(classes) = perceiver.classes() else {
+    if perceiver.classes().is_none() {
         // No frame was read: an empty scene.
         return Ok(PerceivedFluid {
             annotation: annotation(Vec::new(), Vec::new(), &[], camera),
@@ -149,17 +149,10 @@ pub(crate) fn perceive_scene(
             unknown: vec!["the video has no frames".to_string()],
             other_colors: BTreeMap::new(),
         });
-    };
-    // The frames of the sticks' placing masks, whose pixels are read by colour.
-    let stick_frames: Vec<usize> = perceiver
-        .first_tracks()
-        .iter()
-        .filter(|track| classes.kind(track.class) == "stick")
-        .filter_map(|track| earliest_full_mask(track, perceiver.first_detections()))
-        .map(|(frame, _)| frame)
-        .collect::<std::collections::BTreeSet<usize>>()
-        .into_iter()
-        .collect();
+    }
+    // The frames of the sticks' placing masks, whose pixels are read by colour, and those of the
+    // containers' masks their second-choice colours are read from.
+    let stick_frames = second_color_frames(perceiver);
     let frames: BTreeMap<usize, RgbFrame> = perceiver
         .read_frames(&stick_frames)?
         .into_iter()
@@ -178,7 +171,7 @@ pub(crate) fn perceive_scene(
     };
     let mut perceived = read_scene(pass, &model, camera);
     perceived.annotation.frame_count = frame_count;
-    perceived.other_colors = stick_second_colors(perceiver, &perceived.names, &frames)?;
+    perceived.other_colors = second_colors(perceiver, &perceived.names, &frames)?;
     Ok(perceived)
 }
 

@@ -20,7 +20,7 @@ use super::seen::{fluid_colors, seen_flow};
 use super::{attach_other_colors, scene_objects};
 use crate::dataset::VideoFolder;
 use crate::dataset::fluid::{
-    FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, StickRecord, VOCABULARY,
+    FluidAnnotation, FluidLayout, LATER_EMITTED_PREFIX, ReservoirRecord, StickRecord, VOCABULARY,
 };
 use crate::perception::fluid::PERCEPTION;
 use crate::scene_api::find::NameQuery;
@@ -71,20 +71,29 @@ pub(crate) struct SceneCheck {
     /// Sticks read in a wrong colour: how many, and how many of them `find` still names by
     /// their true colour, the colour model's likeliest second choice for them.
     pub recoloured_sticks: SecondChoices,
+    /// Containers read in place in a wrong colour, and those `find` still names.
+    pub recoloured_containers: SecondChoices,
 }
 
 /// How far a stick read in a wrong colour may be from the annotated one it stands in for (its
 /// ends, either way round), units: a stick's length.
 const STAND_IN_RADIUS: f64 = 1.5;
 
-/// Sticks read in a wrong colour, and those their second choice names right.
+/// Objects of one kind read in a wrong colour, and those their second choice names right.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub(crate) struct SecondChoices {
-    /// Annotated sticks read in place but in another colour.
+    /// Annotated objects read in place but in another colour.
     pub recoloured: usize,
-    /// Of them, those `find` still returns for their true name: of the sticks with the true
-    /// colour as a second choice, this stick is where it ranks highest.
+    /// Of them, those `find` still returns for their true name: of the objects of the kind
+    /// with the true colour as a second choice, this one is where it ranks highest.
     pub found_by_second_choice: usize,
+}
+
+impl SecondChoices {
+    fn add(&mut self, other: SecondChoices) {
+        self.recoloured += other.recoloured;
+        self.found_by_second_choice += other.found_by_second_choice;
+    }
 }
 
 impl SceneCheck {
@@ -122,9 +131,8 @@ pub fn scene_report(
         total.emitters.add(check.emitters);
         total.fluids.add(check.fluids);
         total.end_error_sum += check.end_error_sum;
-        total.recoloured_sticks.recoloured += check.recoloured_sticks.recoloured;
-        total.recoloured_sticks.found_by_second_choice +=
-            check.recoloured_sticks.found_by_second_choice;
+        total.recoloured_sticks.add(check.recoloured_sticks);
+        total.recoloured_containers.add(check.recoloured_containers);
         entire += usize::from(check.entire());
         per_video.push(json!({
             "video": video.id.0,
@@ -141,6 +149,7 @@ pub fn scene_report(
         "fluids": total.fluids,
         "mean_stick_end_error_units": mean_end_error,
         "recoloured_sticks": total.recoloured_sticks,
+        "recoloured_containers": total.recoloured_containers,
         "videos_read_entirely": entire,
         "per_video": per_video,
         "properties_from_masks": properties.json(),
@@ -173,7 +182,7 @@ pub(crate) fn check_scene(
     let mut perceiver = Perceiver::open(video_dir, models, PERCEPTION.classes, &VOCABULARY)?;
     let seen = perceive_scene(&mut perceiver, &camera)?;
     let mut check = compare(&truth.layout, &seen.annotation.layout);
-    check.recoloured_sticks = second_choices(
+    (check.recoloured_sticks, check.recoloured_containers) = second_choices(
         &truth.layout,
         &seen.annotation.layout,
         &seen.other_colors,
@@ -192,71 +201,113 @@ pub(crate) fn check_scene(
     Ok((check, inference, truth))
 }
 
-/// The annotated sticks read in place but in another colour, and whether `find` names each by
-/// its true colour through the seen sticks' second choices (`other_colors`); says which in
-/// `misread`.
+/// The annotated sticks and containers read in place but in another colour, and whether `find`
+/// names each by its true colour through the seen objects' second choices (`other_colors`);
+/// says which in `misread`.
 fn second_choices(
     truth: &FluidLayout,
     seen: &FluidLayout,
     other_colors: &std::collections::BTreeMap<String, Vec<String>>,
     misread: &mut Vec<String>,
-) -> SecondChoices {
-    let mut tally = SecondChoices::default();
+) -> (SecondChoices, SecondChoices) {
     let (mut objects, _) = scene_objects(seen);
     attach_other_colors(&mut objects, other_colors);
-    let color_word = |name: &str| {
-        crate::dataset::fluid::parse_fluid_object_name(name)
-            .and_then(|parsed| parsed.color)
-            .map(str::to_lowercase)
+    let origin = [0.0, 0.0];
+    let cup_error = |a: &ReservoirRecord, b: &ReservoirRecord| {
+        let (a, b) = (a.cup_box(origin), b.cup_box(origin));
+        distance(a.min, b.min).max(distance(a.max, b.max))
     };
-    for annotated in &truth.sticks {
-        if seen.sticks.iter().any(|s| s.name == annotated.name) {
-            continue;
-        }
-        // The seen stick nearest its place whose name no annotated stick has (its ends may be
-        // off too: that is counted in `sticks`).
-        let Some(stand_in) = seen
+    // Per annotated object the seen ones of its kind no annotated object is named as, with
+    // their distance from it: a stick's ends, a cup's corners.
+    let stand_ins = |names: Vec<(&str, Vec<(&str, f64)>)>, radius: f64| -> Vec<(String, String)> {
+        names
+            .into_iter()
+            .filter_map(|(annotated, candidates)| {
+                candidates
+                    .into_iter()
+                    .filter(|(_, error)| *error <= radius)
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(seen, _)| (annotated.to_string(), seen.to_string()))
+            })
+            .collect()
+    };
+    let unread = |name: &str, seen_names: &[&str]| !seen_names.contains(&name);
+    let seen_sticks: Vec<&str> = seen.sticks.iter().map(|s| s.name.as_str()).collect();
+    let true_sticks: Vec<&str> = truth.sticks.iter().map(|s| s.name.as_str()).collect();
+    let sticks = stand_ins(
+        truth
             .sticks
             .iter()
-            .filter(|s| !truth.sticks.iter().any(|t| t.name == s.name))
-            .filter(|s| stick_error(annotated, s) <= STAND_IN_RADIUS)
-            .min_by(|a, b| stick_error(annotated, a).total_cmp(&stick_error(annotated, b)))
-        else {
-            continue;
-        };
-        let Some(true_color) = color_word(&annotated.name) else {
-            continue;
-        };
-        tally.recoloured += 1;
-        // What `find` does when no stick was read in the true colour.
-        let query = NameQuery {
-            color: Some(true_color),
-            kind: Some("stick".to_string()),
-            ..NameQuery::default()
-        };
-        let chosen = query
-            .second_choice_object(&objects, &VOCABULARY)
-            .and_then(|id| objects.iter().find(|object| object.id == id))
-            .map(|object| &object.name);
-        let found = chosen == Some(&stand_in.name);
-        tally.found_by_second_choice += usize::from(found);
-        misread.push(format!(
-            "stick `{}` read as `{}`: {}",
-            annotated.name,
-            stand_in.name,
-            if found {
-                "found by its second choice".to_string()
-            } else {
-                format!(
-                    "second choices {}",
-                    other_colors
-                        .get(&stand_in.name)
-                        .map_or_else(|| "none".to_string(), |c| c.join(", "))
-                )
-            }
-        ));
-    }
-    tally
+            .filter(|t| unread(&t.name, &seen_sticks))
+            .map(|t| {
+                let candidates = seen
+                    .sticks
+                    .iter()
+                    .filter(|s| unread(&s.name, &true_sticks))
+                    .map(|s| (s.name.as_str(), stick_error(t, s)))
+                    .collect();
+                (t.name.as_str(), candidates)
+            })
+            .collect(),
+        STAND_IN_RADIUS,
+    );
+    let seen_cups: Vec<&str> = seen.reservoirs.iter().map(|c| c.name.as_str()).collect();
+    let true_cups: Vec<&str> = truth.reservoirs.iter().map(|c| c.name.as_str()).collect();
+    let containers = stand_ins(
+        truth
+            .reservoirs
+            .iter()
+            .filter(|t| unread(&t.name, &seen_cups))
+            .map(|t| {
+                let candidates = seen
+                    .reservoirs
+                    .iter()
+                    .filter(|c| unread(&c.name, &true_cups))
+                    .map(|c| (c.name.as_str(), cup_error(t, c)))
+                    .collect();
+                (t.name.as_str(), candidates)
+            })
+            .collect(),
+        MATCH_RADIUS,
+    );
+    let mut tally = |kind: &str, pairs: Vec<(String, String)>| {
+        let mut tally = SecondChoices::default();
+        for (annotated, stand_in) in pairs {
+            let Some(true_color) = crate::dataset::fluid::parse_fluid_object_name(&annotated)
+                .and_then(|parsed| parsed.color)
+                .map(str::to_lowercase)
+            else {
+                continue;
+            };
+            tally.recoloured += 1;
+            // What `find` does when no object of the kind was read in the true colour.
+            let query = NameQuery {
+                color: Some(true_color),
+                kind: Some(kind.to_string()),
+                ..NameQuery::default()
+            };
+            let found = query
+                .second_choice_object(&objects, &VOCABULARY)
+                .and_then(|id| objects.iter().find(|object| object.id == id))
+                .is_some_and(|object| object.name == stand_in);
+            tally.found_by_second_choice += usize::from(found);
+            misread.push(format!(
+                "{kind} `{annotated}` read as `{stand_in}`: {}",
+                if found {
+                    "found by its second choice".to_string()
+                } else {
+                    format!(
+                        "second choices {}",
+                        other_colors
+                            .get(&stand_in)
+                            .map_or_else(|| "none".to_string(), |c| c.join(", "))
+                    )
+                }
+            ));
+        }
+        tally
+    };
+    (tally("stick", sticks), tally("container", containers))
 }
 
 /// How far apart two sticks' ends are, either way round, units.

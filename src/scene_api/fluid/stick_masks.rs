@@ -1,9 +1,9 @@
-//! Which of a track's masks a perceived object is read from, and a stick's second-choice
-//! colours (`--perception maskrcnn`).
+//! Which of a track's masks a perceived object is read from, and the second-choice colours of
+//! sticks and containers (`--perception maskrcnn`).
 //!
 //! Input: first-pass tracks and their detections, and for the colours the frames of the chosen
 //! masks and the [`Perceiver`]'s colour model. Output: `(frame, mask)` per track, and per named
-//! stick its next-likeliest colour words, which `find` falls back on
+//! stick and container its next-likeliest colour words, which `find` falls back on
 //! ([`SceneObjectInfo::other_colors`](crate::scene_api::object::SceneObjectInfo::other_colors)).
 
 use std::collections::BTreeMap;
@@ -15,14 +15,36 @@ use crate::perception::tracking::Track;
 use crate::scene_api::ApiError;
 use crate::scene_api::perceiver::Perceiver;
 
-/// How many second-choice colours a stick keeps.
+/// How many second-choice colours an object keeps.
 const SECOND_CHOICES: usize = 2;
 
-/// Each named stick's second-choice colours, likeliest first: the colours other than its own
-/// that the colour model's Gaussians find likeliest for the pixels of its placing mask. Red and
-/// brown sticks, and white and grey ones, are the colours the model confuses under some lights
-/// (held-out colour accuracy, `docs/data/fluid.md`).
-pub(super) fn stick_second_colors(
+/// The kinds whose objects keep second-choice colours: those questions name by a colour of the
+/// twelve-colour pool, where the colour model confuses red with brown and white with grey under
+/// some lights (held-out colour accuracy, `docs/data/fluid.md`). Fluids and emitters take the
+/// fluids' seven colours, which it reads right.
+pub(super) const SECOND_CHOICE_KINDS: [&str; 2] = ["stick", "container"];
+
+/// The frames of the masks [`second_colors`] reads: each second-choice object's earliest
+/// full-size mask.
+pub(super) fn second_color_frames(perceiver: &Perceiver) -> Vec<usize> {
+    let Some(classes) = perceiver.classes() else {
+        return Vec::new();
+    };
+    perceiver
+        .first_tracks()
+        .iter()
+        .filter(|track| SECOND_CHOICE_KINDS.contains(&classes.kind(track.class)))
+        .filter_map(|track| earliest_full_mask(track, perceiver.first_detections()))
+        .map(|(frame, _)| frame)
+        .collect::<std::collections::BTreeSet<usize>>()
+        .into_iter()
+        .collect()
+}
+
+/// Each named stick's and container's second-choice colours, likeliest first: the colours
+/// other than its own that the colour model's Gaussians find likeliest for the pixels of its
+/// earliest full-size mask (for a container, before fluid fills it).
+pub(super) fn second_colors(
     perceiver: &Perceiver,
     names: &[Option<String>],
     frames: &BTreeMap<usize, RgbFrame>,
@@ -34,7 +56,7 @@ pub(super) fn stick_second_colors(
     let detections = perceiver.first_detections();
     for (track, name) in perceiver.first_tracks().iter().zip(names) {
         let Some(name) = name else { continue };
-        if classes.kind(track.class) != "stick" {
+        if !SECOND_CHOICE_KINDS.contains(&classes.kind(track.class)) {
             continue;
         }
         let Some((frame, mask)) = earliest_full_mask(track, detections) else {
