@@ -44,12 +44,22 @@ const VIDEO_FRAMES: usize = (CAPTURE_UPDATES / UPDATES_PER_FRAME) as usize;
 /// Seconds between two frames.
 const FRAME_SECONDS: f64 = UPDATES_PER_FRAME as f64 * UPDATE_SECONDS;
 
-/// A fluid takes part in a container's layering with more than this many tracked particles in
-/// its cup at the last frame (of 100 per emitter): fewer are a few drops, not a layer.
-const LAYER_MIN_PARTICLES: usize = 5;
-/// Two fluids' median heights in a container must differ by more than this (units) for the
-/// lower to be called denser; a particle spacing is 0.025.
+/// A fluid takes part in a piece of layering evidence with more than this many tracked
+/// particles in the region at the last frame.
+const LAYER_MIN_PARTICLES: usize = 2;
+/// A piece of layering evidence decides a pair when it exceeds this, units (a height gap, or a
+/// sinking extrapolated to the truth's count); a particle spacing is 0.025.
 const LAYER_MARGIN: f64 = 0.02;
+/// A container's column reaches this far above its funnel's box, units: fluid resting on the
+/// guided sticks' upper ends lies in layers too.
+const COLUMN_TOP: f64 = 0.5;
+/// Sinking is measured over the video's last this many frames.
+const SINK_WINDOW: usize = 40;
+/// A particle counts as settled in a region after more than this many frames inside it.
+const SETTLED_FRAMES: usize = 10;
+/// Frames from the video's end (update 500) to the truth's count (update 700): the sinking over
+/// the window is extrapolated over them.
+const TRUTH_HORIZON_FRAMES: f64 = 100.0;
 
 /// A particle counts as on a stick within this distance of the stick's surface (units): resting
 /// particles sit about half a spacing off it, flowing ones a few spacings.
@@ -140,9 +150,7 @@ impl StickSegment {
     }
 }
 
-/// A container as the layering sees it: its cup. (The truth's counting adds the funnel's box,
-/// but fluid there slides along the guided sticks or hangs on them instead of lying in layers:
-/// on the tuning videos the funnel's particles turned correct orders into wrong ones.)
+/// A container as the layering sees it: its cup and its funnel (the guided sticks' box).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub(crate) struct ContainerRegion {
     /// `<C> Container`.
@@ -150,6 +158,20 @@ pub(crate) struct ContainerRegion {
     /// The cup, world units.
     #[serde(skip)]
     pub(crate) cup: Rect,
+    /// The bounding box of the funnel's guided sticks, world units.
+    #[serde(skip)]
+    pub(crate) funnel: Rect,
+}
+
+impl ContainerRegion {
+    /// The container's column: the funnel's x-range, from the cup's floor to [`COLUMN_TOP`]
+    /// above the funnel's box.
+    fn column(&self) -> Rect {
+        Rect {
+            min: [self.funnel.min[0], self.cup.min[1]],
+            max: [self.funnel.max[0], self.funnel.max[1] + COLUMN_TOP],
+        }
+    }
 }
 
 /// What perception sees of a fluid scene: geometry and fluid names, no properties.
@@ -185,6 +207,7 @@ impl PerceivedFluidScene {
                 .map(|reservoir| ContainerRegion {
                     name: reservoir.name.clone(),
                     cup: reservoir.cup_box(origin),
+                    funnel: reservoir.funnel_box(origin),
                 })
                 .collect(),
             fluids: layout
@@ -266,15 +289,29 @@ pub(crate) fn fluid_tracks(
     Ok(tracks)
 }
 
-/// One fluid's particles in one container's cup at the last frame.
+/// One fluid's particles in one region of a container at the last frame.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub(crate) struct Layer {
     /// The base fluid.
     pub(crate) fluid: String,
-    /// Its tracked particles inside the cup.
+    /// Its tracked particles (or pixels) inside the region.
     pub(crate) particles: usize,
     /// Their median height, units.
     pub(crate) median_y: f64,
+}
+
+/// What a layering comparison measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum LayerEvidence {
+    /// Median heights in the container's column at the last frame (tracked particles).
+    ColumnHeights,
+    /// How fast each fluid's settled particles sink in the cup over the last frames.
+    CupSinking,
+    /// The same in the funnel.
+    FunnelSinking,
+    /// Mean heights over the columns of a cup or the pool both fluids fill (masks).
+    MaskHeights,
 }
 
 /// How two fluids lie in one container, and what that says.
@@ -282,11 +319,15 @@ pub(crate) struct Layer {
 pub(crate) struct LayerComparison {
     /// The container.
     pub(crate) container: String,
+    /// What was measured.
+    pub(crate) evidence: LayerEvidence,
     /// The first fluid's layer.
     pub(crate) first: Layer,
     /// The second fluid's layer.
     pub(crate) second: Layer,
-    /// The first's median height minus the second's, units (negative: the first lies lower).
+    /// Heights: the first's median height minus the second's. Sinking: how much further the
+    /// first's settled particles moved up than the second's over the window, extrapolated to
+    /// the truth's count. Units; negative: the first lies lower, or sinks through the second.
     pub(crate) gap: f64,
     /// The denser fluid by this container, when both layers have enough particles and their
     /// heights differ by more than the margin.
@@ -334,78 +375,131 @@ fn median(values: &mut [f64]) -> Option<f64> {
     }
 }
 
-/// Each fluid's points (its tracked particles, or its pixels) in `container`'s cup at the end
-/// of the video.
-fn container_layers(
-    container: &ContainerRegion,
-    last: &IndexMap<String, Vec<[f64; 2]>>,
-) -> Vec<Layer> {
-    let mut layers = Vec::new();
-    for (fluid, points) in last {
-        let mut heights: Vec<f64> = points
-            .iter()
-            .filter(|point| container.cup.contains(**point))
-            .map(|point| point[1])
-            .collect();
-        if let Some(median_y) = median(&mut heights) {
-            layers.push(Layer {
-                fluid: fluid.clone(),
-                particles: heights.len(),
-                median_y,
-            });
+/// One fluid's tracked particles in one region: their heights at the last frame, and per frame
+/// of the sinking window the sum of the settled particles' height changes and their count.
+struct RegionTrace {
+    last_heights: Vec<f64>,
+    /// `(sum of Δy, settled particles)` per window frame.
+    settling: Vec<(f64, usize)>,
+}
+
+/// Where `particles` are in `region`: see [`RegionTrace`]. `last` is the video's last frame.
+fn region_trace(particles: &[ParticleTrack], region: &Rect, last: usize) -> RegionTrace {
+    let window_start = (last + 1).saturating_sub(SINK_WINDOW).max(1);
+    let mut settling = vec![(0.0, 0); last + 1 - window_start.min(last + 1)];
+    let mut last_heights = Vec::new();
+    for particle in particles {
+        // Frames inside the region in a row, up to the previous frame.
+        let mut inside_for = 0usize;
+        let mut previous: Option<[f64; 2]> = None;
+        for frame in 0..=last {
+            let point = particle.positions.get(frame).copied().flatten();
+            let inside = point.filter(|p| region.contains(*p));
+            if frame >= window_start
+                && let (Some(now), Some(before)) = (inside, previous)
+                && inside_for > SETTLED_FRAMES
+                && let Some(slot) = settling.get_mut(frame - window_start)
+            {
+                slot.0 += now[1] - before[1];
+                slot.1 += 1;
+            }
+            inside_for = if inside.is_some() { inside_for + 1 } else { 0 };
+            previous = inside;
+            if frame == last
+                && let Some(now) = inside
+            {
+                last_heights.push(now[1]);
+            }
         }
     }
-    layers
+    RegionTrace {
+        last_heights,
+        settling,
+    }
 }
 
-/// Each fluid's tracked particles at the last frame, in scene order.
-fn last_positions(tracks: &FluidTracks) -> IndexMap<String, Vec<[f64; 2]>> {
-    tracks
-        .iter()
-        .map(|(fluid, particles)| {
-            let points = particles
-                .iter()
-                .filter_map(|track| *track.positions.last()?)
-                .collect();
-            (fluid.clone(), points)
-        })
-        .collect()
+/// How much further `first`'s settled particles rose than `second`'s, summed over the window
+/// frames where both have some (mean height change each); `None` when there is no such frame.
+fn relative_rise(first: &RegionTrace, second: &RegionTrace) -> Option<f64> {
+    let mut total = None;
+    for (&(sum_a, count_a), &(sum_b, count_b)) in first.settling.iter().zip(&second.settling) {
+        if count_a > 0 && count_b > 0 {
+            #[expect(clippy::cast_precision_loss, reason = "particle counts up to 3,000")]
+            let step = sum_a / count_a as f64 - sum_b / count_b as f64;
+            *total.get_or_insert(0.0) += step;
+        }
+    }
+    total
 }
 
-/// The density order the containers' layering of the tracked particles shows.
+/// The density order the tracked particles show. Per container, three pieces of evidence
+/// compare each two fluids both present there at the last frame: their median heights in the
+/// container's column (lower is denser), and how fast their settled particles sink in the cup
+/// and in the funnel over the last [`SINK_WINDOW`] frames, extrapolated over the
+/// [`TRUTH_HORIZON_FRAMES`] to the truth's count (a denser fluid lying on top sinks through the
+/// lighter one). Each decides when both fluids have more than [`LAYER_MIN_PARTICLES`] there
+/// and it exceeds [`LAYER_MARGIN`], and votes ([`density_from_comparisons`]).
 pub(crate) fn infer_density(scene: &PerceivedFluidScene, tracks: &FluidTracks) -> DensityInference {
-    infer_density_from(scene, &last_positions(tracks), LAYER_MIN_PARTICLES)
-}
-
-/// The density order the containers' layering shows, from each fluid's points at the end of
-/// the video (`last`, by base fluid); a fluid takes part in a container's layering with more
-/// than `min_points` of them in its cup.
-pub(crate) fn infer_density_from(
-    scene: &PerceivedFluidScene,
-    last: &IndexMap<String, Vec<[f64; 2]>>,
-    min_points: usize,
-) -> DensityInference {
+    let frames = tracks
+        .values()
+        .flatten()
+        .map(|track| track.positions.len())
+        .max()
+        .unwrap_or(0);
+    let Some(last) = frames.checked_sub(1) else {
+        return density_from_comparisons(Vec::new());
+    };
     let mut comparisons = Vec::new();
     for container in &scene.containers {
-        let layers = container_layers(container, last);
-        for (index, first) in layers.iter().enumerate() {
-            for second in layers.iter().skip(index + 1) {
-                let gap = first.median_y - second.median_y;
-                let enough = first.particles > min_points && second.particles > min_points;
-                let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
-                    None
-                } else if gap < 0.0 {
-                    Some(first.fluid.clone())
-                } else {
-                    Some(second.fluid.clone())
-                };
-                comparisons.push(LayerComparison {
-                    container: container.name.clone(),
-                    first: first.clone(),
-                    second: second.clone(),
-                    gap,
-                    heavier,
-                });
+        for (evidence, region) in [
+            (LayerEvidence::ColumnHeights, container.column()),
+            (LayerEvidence::CupSinking, container.cup),
+            (LayerEvidence::FunnelSinking, container.funnel),
+        ] {
+            let mut traces: Vec<(&String, RegionTrace)> = Vec::new();
+            for (fluid, particles) in tracks {
+                let trace = region_trace(particles, &region, last);
+                if !trace.last_heights.is_empty() {
+                    traces.push((fluid, trace));
+                }
+            }
+            for (index, (first, a)) in traces.iter().enumerate() {
+                for (second, b) in traces.iter().skip(index + 1) {
+                    let gap = match evidence {
+                        LayerEvidence::ColumnHeights => {
+                            median(&mut a.last_heights.clone()).unwrap_or(0.0)
+                                - median(&mut b.last_heights.clone()).unwrap_or(0.0)
+                        }
+                        _ => match relative_rise(a, b) {
+                            #[expect(clippy::cast_precision_loss, reason = "40 frames")]
+                            Some(rise) => rise * TRUTH_HORIZON_FRAMES / SINK_WINDOW as f64,
+                            None => continue,
+                        },
+                    };
+                    let layer = |fluid: &String, trace: &RegionTrace| Layer {
+                        fluid: fluid.clone(),
+                        particles: trace.last_heights.len(),
+                        median_y: median(&mut trace.last_heights.clone()).unwrap_or(0.0),
+                    };
+                    let (first, second) = (layer(first, a), layer(second, b));
+                    let enough = first.particles > LAYER_MIN_PARTICLES
+                        && second.particles > LAYER_MIN_PARTICLES;
+                    let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
+                        None
+                    } else if gap < 0.0 {
+                        Some(first.fluid.clone())
+                    } else {
+                        Some(second.fluid.clone())
+                    };
+                    comparisons.push(LayerComparison {
+                        container: container.name.clone(),
+                        evidence,
+                        first,
+                        second,
+                        gap,
+                        heavier,
+                    });
+                }
             }
         }
     }

@@ -34,8 +34,8 @@ use indexmap::IndexMap;
 use serde::Serialize;
 
 use super::{
-    ContainerRegion, DensityInference, LayerComparison, PerceivedFluidScene, StickSegment,
-    ViscosityEvidence, density_from_comparisons, median,
+    ContainerRegion, DensityInference, LayerComparison, LayerEvidence, PerceivedFluidScene,
+    StickSegment, ViscosityEvidence, density_from_comparisons, median,
 };
 use crate::dataset::fluid::Viscosity;
 use crate::dataset::fluid::outcome::Rect;
@@ -217,6 +217,7 @@ fn compare_columns(
     };
     Some(LayerComparison {
         container: region.to_string(),
+        evidence: LayerEvidence::MaskHeights,
         first: super::Layer {
             fluid: first.to_string(),
             particles: whole_pixels(area_a),
@@ -481,6 +482,10 @@ mod tests {
                 cup: Rect {
                     min: [-2.0, -4.0],
                     max: [-1.0, -3.125],
+                },
+                funnel: Rect {
+                    min: [-2.2, -3.125],
+                    max: [-0.8, -2.75],
                 },
             }],
             fluids: vec![
