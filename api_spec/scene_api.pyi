@@ -27,6 +27,10 @@ class SceneUnavailableError(SceneApiError):
     """The call is well formed but this video cannot answer it (for example a scenario without a
     backend, or a counterfactual run the video does not have)."""
 
+class SceneNotSeenError(SceneUnavailableError):
+    """The name is well formed but no object read from the video's pixels carries it (perception
+    from pixels only): the detector missed the object or read it in another colour."""
+
 class SceneDataError(SceneApiError):
     """The video's files are missing or broken."""
 

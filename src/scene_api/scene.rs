@@ -465,10 +465,21 @@ impl Scene {
     ) -> Result<bool, ApiError> {
         self.count(|w| w.api_calls += 1);
         let [object] = objects else {
-            return Err(misuse(format!(
+            let message = format!(
                 "happen: ask about one object at a time, got {}; e.g. happen([cube], 'motion', 'up')",
                 objects.len()
-            )));
+            );
+            // An empty list is what `find` gives for a name no object carries: under perception
+            // from pixels, an object the detector missed or read in another colour.
+            return Err(
+                if objects.is_empty() && self.spec.perception != PerceptionBackend::Annotation {
+                    ApiError::NotSeen(format!(
+                        "{message}; perception from pixels may have missed the object or read it in another colour"
+                    ))
+                } else {
+                    misuse(message)
+                },
+            );
         };
         self.backend()?
             .happen(event, *object, &action.trim().to_lowercase(), target)

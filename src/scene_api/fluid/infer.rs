@@ -103,15 +103,11 @@ pub(crate) enum InferError {
         /// The particle's index in the frame.
         particle: usize,
     },
-    /// The scene's fluid count has no density pool in the release.
-    #[error(
-        "video `{video}`: {count} fluids; the release's density pools are for 3 or 4 (1 or 2 when perception missed some)"
-    )]
-    FluidCount {
+    /// The scene has no fluid to give a density.
+    #[error("video `{video}`: no fluid was seen (the release has 3 or 4)")]
+    NoFluids {
         /// The video.
         video: String,
-        /// The number of fluids.
-        count: usize,
     },
 }
 
@@ -664,18 +660,27 @@ pub(crate) fn density_ranks(
     // Fewer fluids than the release ever has (1 or 2) are fluids perception missed: the
     // 3-fluid pool's ends (or middle) keep the ones read apart, so the scene still runs and only
     // the questions about the missing fluid fail.
-    let two = [DENSITIES_3_FLUIDS[0], DENSITIES_3_FLUIDS[2]];
-    let one = [DENSITIES_3_FLUIDS[1]];
-    let pool: &[f64] = match scene.fluids.len() {
-        1 => &one,
-        2 => &two,
-        3 => &DENSITIES_3_FLUIDS,
-        4 => &DENSITIES_4_FLUIDS,
-        count => {
-            return Err(InferError::FluidCount {
+    // More than the release ever has are a fluid read twice or a spurious one: the 4-fluid
+    // pool's range evenly spaced, so the scene still runs and only questions about the
+    // misread fluids go wrong.
+    let pool: Vec<f64> = match scene.fluids.len() {
+        1 => vec![DENSITIES_3_FLUIDS[1]],
+        2 => vec![DENSITIES_3_FLUIDS[0], DENSITIES_3_FLUIDS[2]],
+        3 => DENSITIES_3_FLUIDS.to_vec(),
+        4 => DENSITIES_4_FLUIDS.to_vec(),
+        0 => {
+            return Err(InferError::NoFluids {
                 video: video.to_string(),
-                count,
             });
+        }
+        count => {
+            let (lightest, heaviest) = (DENSITIES_4_FLUIDS[0], DENSITIES_4_FLUIDS[3]);
+            #[expect(clippy::cast_precision_loss, reason = "a handful of fluids")]
+            let step = (heaviest - lightest) / (count - 1) as f64;
+            #[expect(clippy::cast_precision_loss, reason = "a handful of fluids")]
+            (0..count)
+                .map(|rank| lightest + step * rank as f64)
+                .collect()
         }
     };
     let mut remaining: Vec<String> = scene.fluids.iter().map(|(name, _)| name.clone()).collect();

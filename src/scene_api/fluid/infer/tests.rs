@@ -395,12 +395,25 @@ fn bad_tracks_are_errors_naming_video_and_fluid() {
     let mut densities: Vec<f64> = inferred.ranks.iter().map(|rank| rank.density).collect();
     densities.sort_by(f64::total_cmp);
     assert_eq!(densities, vec![1600.0, 4400.0]);
+    // Five (perception read a spurious one): the 4-fluid pool's range, evenly spaced.
+    let (orange, cyan) = ("Orange Fluid", "Cyan Fluid");
+    let five = four_d(
+        [BLUE, PINK, GREEN, orange, cyan]
+            .into_iter()
+            .map(|fluid| (fluid, layer(5, [0.0, 1.0], [0.0, 1.0])))
+            .collect(),
+    );
+    let scene = self::scene(&[BLUE, PINK, GREEN, orange, cyan]);
+    let inferred = infer_fluid_properties("7", &scene, &five).unwrap();
+    let mut densities: Vec<f64> = inferred.ranks.iter().map(|rank| rank.density).collect();
+    densities.sort_by(f64::total_cmp);
+    assert_eq!(densities, vec![1200.0, 2250.0, 3300.0, 4350.0, 5400.0]);
     let none = four_d(Vec::new());
     assert_eq!(
         infer_fluid_properties("7", &self::scene(&[]), &none)
             .unwrap_err()
             .to_string(),
-        "video `7`: 0 fluids; the release's density pools are for 3 or 4 (1 or 2 when perception missed some)"
+        "video `7`: no fluid was seen (the release has 3 or 4)"
     );
 }
 
