@@ -48,6 +48,20 @@ impl ApiError {
     }
 }
 
+/// The error for a call given no object where it needs one, or a well-formed name no object
+/// carries (`message` says which): under perception from pixels the detector may have missed
+/// the object or read it in another colour (`NotSeen`, a perception miss); under annotation
+/// perception every object is known, so it is the program's `Misuse`.
+pub(crate) fn named_nothing(message: String, from_pixels: bool) -> ApiError {
+    if from_pixels {
+        ApiError::NotSeen(format!(
+            "{message}; perception from pixels may have missed the object or read it in another colour"
+        ))
+    } else {
+        ApiError::Misuse(message)
+    }
+}
+
 pub(crate) fn misuse(message: impl Into<String>) -> ApiError {
     ApiError::Misuse(message.into())
 }

@@ -469,17 +469,15 @@ impl Scene {
                 "happen: ask about one object at a time, got {}; e.g. happen([cube], 'motion', 'up')",
                 objects.len()
             );
-            // An empty list is what `find` gives for a name no object carries: under perception
-            // from pixels, an object the detector missed or read in another colour.
-            return Err(
-                if objects.is_empty() && self.spec.perception != PerceptionBackend::Annotation {
-                    ApiError::NotSeen(format!(
-                        "{message}; perception from pixels may have missed the object or read it in another colour"
-                    ))
-                } else {
-                    misuse(message)
-                },
-            );
+            // An empty list is what `find` gives for a name no object carries.
+            return Err(if objects.is_empty() {
+                super::error::named_nothing(
+                    message,
+                    self.spec.perception != PerceptionBackend::Annotation,
+                )
+            } else {
+                misuse(message)
+            });
         };
         self.backend()?
             .happen(event, *object, &action.trim().to_lowercase(), target)

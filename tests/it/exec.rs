@@ -8,7 +8,11 @@ use serde_json::{Value, json};
 use crate::support::{contphy, demo, root, stderr, stdout};
 
 fn exec(program: &str, extra: &[&str]) -> (Option<i32>, Value, String) {
-    let video = demo().join("pulley_group/0");
+    exec_on(&demo().join("pulley_group/0"), program, extra)
+}
+
+/// `exec` of the fixture `program` on `video`, with `extra` arguments.
+fn exec_on(video: &std::path::Path, program: &str, extra: &[&str]) -> (Option<i32>, Value, String) {
     let program = root().join("tests/fixtures/programs").join(program);
     let mut args = vec![
         "exec",
@@ -94,26 +98,17 @@ fn failures_are_typed_with_their_stage_and_exit_1() {
 /// name an object the detector missed or read in another colour.
 #[test]
 fn naming_an_absent_object_is_misuse_or_a_perception_miss() {
-    let video = root().join("eval/demo/fluid_slides/0");
-    let program = root().join("tests/fixtures/programs/fluid_absent_container.py");
+    let video = demo().join("fluid_slides/0");
     for (perception, kind, class) in [
         ("annotation", "misuse", "SceneApiError"),
         ("maskrcnn", "not_seen", "SceneNotSeenError"),
     ] {
-        let output = contphy(
-            &root(),
-            &[
-                "exec",
-                "--video",
-                video.to_str().unwrap(),
-                "--program",
-                program.to_str().unwrap(),
-                "--perception",
-                perception,
-            ],
+        let (code, value, _) = exec_on(
+            &video,
+            "fluid_absent_container.py",
+            &["--perception", perception],
         );
-        let value: Value = serde_json::from_str(&stdout(&output)).unwrap_or(Value::Null);
-        assert_eq!(output.status.code(), Some(1), "{perception}: {value}");
+        assert_eq!(code, Some(1), "{perception}: {value}");
         assert_eq!(
             value["error"]["stage"], "scene_api",
             "{perception}: {value}"

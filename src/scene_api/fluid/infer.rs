@@ -371,16 +371,23 @@ fn median(values: &mut [f64]) -> Option<f64> {
     }
 }
 
-/// One fluid's tracked particles in one region: their heights at the last frame, and per frame
-/// of the sinking window the sum of the settled particles' height changes and their count.
+/// One fluid's tracked particles in one region: its layer there at the last frame, and per
+/// frame of the sinking window the sum of the settled particles' height changes and their
+/// count.
 struct RegionTrace {
-    last_heights: Vec<f64>,
+    layer: Layer,
     /// `(sum of Δy, settled particles)` per window frame.
     settling: Vec<(f64, usize)>,
 }
 
-/// Where `particles` are in `region`: see [`RegionTrace`]. `last` is the video's last frame.
-fn region_trace(particles: &[ParticleTrack], region: &Rect, last: usize) -> RegionTrace {
+/// Where `fluid`'s `particles` are in `region` (see [`RegionTrace`]); `None` when none is there
+/// at `last`, the video's last frame.
+fn region_trace(
+    fluid: &str,
+    particles: &[ParticleTrack],
+    region: &Rect,
+    last: usize,
+) -> Option<RegionTrace> {
     let window_start = (last + 1).saturating_sub(SINK_WINDOW).max(1);
     let mut settling = vec![(0.0, 0); last + 1 - window_start.min(last + 1)];
     let mut last_heights = Vec::new();
@@ -408,9 +415,26 @@ fn region_trace(particles: &[ParticleTrack], region: &Rect, last: usize) -> Regi
             }
         }
     }
-    RegionTrace {
-        last_heights,
+    let particles = last_heights.len();
+    Some(RegionTrace {
+        layer: Layer {
+            fluid: fluid.to_string(),
+            particles,
+            median_y: median(&mut last_heights)?,
+        },
         settling,
+    })
+}
+
+/// The denser of two fluids by a layering `gap` (negative: `first` lies lower or sinks), when
+/// both take part (`enough`) and it exceeds [`LAYER_MARGIN`].
+fn heavier_by_gap(first: &str, second: &str, gap: f64, enough: bool) -> Option<String> {
+    if !enough || gap.abs() <= LAYER_MARGIN {
+        None
+    } else if gap < 0.0 {
+        Some(first.to_string())
+    } else {
+        Some(second.to_string())
     }
 }
 
@@ -452,41 +476,24 @@ pub(crate) fn infer_density(scene: &PerceivedFluidScene, tracks: &FluidTracks) -
             (LayerEvidence::CupSinking, container.cup),
             (LayerEvidence::FunnelSinking, container.funnel),
         ] {
-            let mut traces: Vec<(&String, RegionTrace)> = Vec::new();
-            for (fluid, particles) in tracks {
-                let trace = region_trace(particles, &region, last);
-                if !trace.last_heights.is_empty() {
-                    traces.push((fluid, trace));
-                }
-            }
-            for (index, (first, a)) in traces.iter().enumerate() {
-                for (second, b) in traces.iter().skip(index + 1) {
+            let traces: Vec<RegionTrace> = tracks
+                .iter()
+                .filter_map(|(fluid, particles)| region_trace(fluid, particles, &region, last))
+                .collect();
+            for (index, a) in traces.iter().enumerate() {
+                for b in traces.iter().skip(index + 1) {
                     let gap = match evidence {
-                        LayerEvidence::ColumnHeights => {
-                            median(&mut a.last_heights.clone()).unwrap_or(0.0)
-                                - median(&mut b.last_heights.clone()).unwrap_or(0.0)
-                        }
+                        LayerEvidence::ColumnHeights => a.layer.median_y - b.layer.median_y,
                         _ => match relative_rise(a, b) {
                             #[expect(clippy::cast_precision_loss, reason = "40 frames")]
                             Some(rise) => rise * TRUTH_HORIZON_FRAMES / SINK_WINDOW as f64,
                             None => continue,
                         },
                     };
-                    let layer = |fluid: &String, trace: &RegionTrace| Layer {
-                        fluid: fluid.clone(),
-                        particles: trace.last_heights.len(),
-                        median_y: median(&mut trace.last_heights.clone()).unwrap_or(0.0),
-                    };
-                    let (first, second) = (layer(first, a), layer(second, b));
+                    let (first, second) = (a.layer.clone(), b.layer.clone());
                     let enough = first.particles > LAYER_MIN_PARTICLES
                         && second.particles > LAYER_MIN_PARTICLES;
-                    let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
-                        None
-                    } else if gap < 0.0 {
-                        Some(first.fluid.clone())
-                    } else {
-                        Some(second.fluid.clone())
-                    };
+                    let heavier = heavier_by_gap(&first.fluid, &second.fluid, gap, enough);
                     comparisons.push(LayerComparison {
                         container: container.name.clone(),
                         evidence,

@@ -381,17 +381,10 @@ impl FluidBackend {
             .collect())
     }
 
-    /// The error for a well-formed description that names no object: under perception from
-    /// pixels the detector may have missed the object or read it in another colour (`NotSeen`,
-    /// a perception miss); under annotation perception every object is known (`Misuse`).
+    /// [`named_nothing`](crate::scene_api::error::named_nothing) for this scene: from pixels
+    /// when a detector read it.
     fn named_nothing(&self, message: String) -> ApiError {
-        if self.perceiver.is_some() {
-            ApiError::NotSeen(format!(
-                "{message}; perception from pixels may have missed it or read it in another colour"
-            ))
-        } else {
-            misuse(message)
-        }
+        crate::scene_api::error::named_nothing(message, self.perceiver.is_some())
     }
 
     /// The short names of the scene's objects of `kind`, for messages (`brown stick, cyan

@@ -152,9 +152,9 @@ pub(crate) fn perceive_scene(
     }
     // The frames of the sticks' placing masks, whose pixels are read by colour, and those of the
     // containers' masks their second-choice colours are read from.
-    let stick_frames = second_color_frames(perceiver);
+    let color_frames = second_color_frames(perceiver);
     let frames: BTreeMap<usize, RgbFrame> = perceiver
-        .read_frames(&stick_frames)?
+        .read_frames(&color_frames)?
         .into_iter()
         .map(|frame| (frame.index, frame))
         .collect();

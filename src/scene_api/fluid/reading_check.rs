@@ -212,62 +212,32 @@ fn second_choices(
 ) -> (SecondChoices, SecondChoices) {
     let (mut objects, _) = scene_objects(seen);
     attach_other_colors(&mut objects, other_colors);
-    let origin = [0.0, 0.0];
-    let cup_error = |a: &ReservoirRecord, b: &ReservoirRecord| {
-        let (a, b) = (a.cup_box(origin), b.cup_box(origin));
-        distance(a.min, b.min).max(distance(a.max, b.max))
-    };
-    // Per annotated object the seen ones of its kind no annotated object is named as, with
-    // their distance from it: a stick's ends, a cup's corners.
-    let stand_ins = |names: Vec<(&str, Vec<(&str, f64)>)>, radius: f64| -> Vec<(String, String)> {
-        names
-            .into_iter()
-            .filter_map(|(annotated, candidates)| {
-                candidates
-                    .into_iter()
-                    .filter(|(_, error)| *error <= radius)
-                    .min_by(|a, b| a.1.total_cmp(&b.1))
-                    .map(|(seen, _)| (annotated.to_string(), seen.to_string()))
-            })
-            .collect()
-    };
-    let unread = |name: &str, seen_names: &[&str]| !seen_names.contains(&name);
-    let seen_sticks: Vec<&str> = seen.sticks.iter().map(|s| s.name.as_str()).collect();
-    let true_sticks: Vec<&str> = truth.sticks.iter().map(|s| s.name.as_str()).collect();
     let sticks = stand_ins(
-        truth
+        &truth
             .sticks
             .iter()
-            .filter(|t| unread(&t.name, &seen_sticks))
-            .map(|t| {
-                let candidates = seen
-                    .sticks
-                    .iter()
-                    .filter(|s| unread(&s.name, &true_sticks))
-                    .map(|s| (s.name.as_str(), stick_error(t, s)))
-                    .collect();
-                (t.name.as_str(), candidates)
-            })
-            .collect(),
+            .map(|s| s.name.clone())
+            .collect::<Vec<_>>(),
+        &seen
+            .sticks
+            .iter()
+            .map(|s| s.name.clone())
+            .collect::<Vec<_>>(),
+        |t, s| stick_error(&truth.sticks[t], &seen.sticks[s]),
         STAND_IN_RADIUS,
     );
-    let seen_cups: Vec<&str> = seen.reservoirs.iter().map(|c| c.name.as_str()).collect();
-    let true_cups: Vec<&str> = truth.reservoirs.iter().map(|c| c.name.as_str()).collect();
     let containers = stand_ins(
-        truth
+        &truth
             .reservoirs
             .iter()
-            .filter(|t| unread(&t.name, &seen_cups))
-            .map(|t| {
-                let candidates = seen
-                    .reservoirs
-                    .iter()
-                    .filter(|c| unread(&c.name, &true_cups))
-                    .map(|c| (c.name.as_str(), cup_error(t, c)))
-                    .collect();
-                (t.name.as_str(), candidates)
-            })
-            .collect(),
+            .map(|c| c.name.clone())
+            .collect::<Vec<_>>(),
+        &seen
+            .reservoirs
+            .iter()
+            .map(|c| c.name.clone())
+            .collect::<Vec<_>>(),
+        |t, s| cup_error(&truth.reservoirs[t], &seen.reservoirs[s]),
         MATCH_RADIUS,
     );
     let mut tally = |kind: &str, pairs: Vec<(String, String)>| {
@@ -308,6 +278,38 @@ fn second_choices(
         tally
     };
     (tally("stick", sticks), tally("container", containers))
+}
+
+/// Per annotated object no seen object is named as (`truth`, `seen`: names), the nearest seen
+/// object within `radius` (by `error` of their indices) that no annotated object is named as:
+/// the object read in another colour, `(annotated, seen)`.
+fn stand_ins(
+    truth: &[String],
+    seen: &[String],
+    error: impl Fn(usize, usize) -> f64,
+    radius: f64,
+) -> Vec<(String, String)> {
+    truth
+        .iter()
+        .enumerate()
+        .filter(|(_, annotated)| !seen.contains(annotated))
+        .filter_map(|(t, annotated)| {
+            seen.iter()
+                .enumerate()
+                .filter(|(_, name)| !truth.contains(name))
+                .map(|(s, name)| (name, error(t, s)))
+                .filter(|(_, distance)| *distance <= radius)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(name, _)| (annotated.clone(), name.clone()))
+        })
+        .collect()
+}
+
+/// How far apart two containers' cups are: the farther of their corresponding corners, units.
+fn cup_error(a: &ReservoirRecord, b: &ReservoirRecord) -> f64 {
+    let origin = [0.0, 0.0];
+    let (a, b) = (a.cup_box(origin), b.cup_box(origin));
+    distance(a.min, b.min).max(distance(a.max, b.max))
 }
 
 /// How far apart two sticks' ends are, either way round, units.
@@ -354,15 +356,11 @@ pub(crate) fn compare(truth: &FluidLayout, seen: &FluidLayout) -> SceneCheck {
     // Containers: the cup in place.
     check.containers.annotated = truth.reservoirs.len();
     for container in &seen.reservoirs {
-        let origin = [0.0, 0.0];
         let in_place = truth
             .reservoirs
             .iter()
             .find(|t| t.name == container.name)
-            .is_some_and(|t| {
-                let (a, b) = (t.cup_box(origin), container.cup_box(origin));
-                distance(a.min, b.min).max(distance(a.max, b.max)) <= MATCH_RADIUS
-            });
+            .is_some_and(|t| cup_error(t, container) <= MATCH_RADIUS);
         if in_place {
             check.containers.right += 1;
         } else {

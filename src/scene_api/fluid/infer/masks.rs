@@ -35,7 +35,7 @@ use serde::Serialize;
 
 use super::{
     ContainerRegion, DensityInference, LayerComparison, LayerEvidence, PerceivedFluidScene,
-    StickSegment, ViscosityEvidence, density_from_comparisons, median,
+    StickSegment, ViscosityEvidence, density_from_comparisons, heavier_by_gap, median,
 };
 use crate::dataset::fluid::Viscosity;
 use crate::dataset::fluid::outcome::Rect;
@@ -60,8 +60,6 @@ pub(crate) const MIN_COLUMN_PIXELS: f64 = 2.0;
 /// A region decides a pair when both fluids have more than this many pixels in the columns
 /// they share.
 pub(crate) const MIN_REGION_PIXELS: f64 = 10.0;
-/// A region decides a pair when the weighted gap exceeds this, units.
-const LAYER_MARGIN: f64 = 0.02;
 
 /// The bottom of the emitters' boxes, world y (centres at 2.85, boxes 0.25 tall).
 const EMITTER_BOTTOM: f64 = 2.725;
@@ -208,13 +206,7 @@ fn compare_columns(
     }
     let gap = weighted_gap / weight;
     let enough = area_a > MIN_REGION_PIXELS && area_b > MIN_REGION_PIXELS;
-    let heavier = if !enough || gap.abs() <= LAYER_MARGIN {
-        None
-    } else if gap < 0.0 {
-        Some(first.to_string())
-    } else {
-        Some(second.to_string())
-    };
+    let heavier = heavier_by_gap(first, second, gap, enough);
     Some(LayerComparison {
         container: region.to_string(),
         evidence: LayerEvidence::MaskHeights,
