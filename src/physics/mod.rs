@@ -11,6 +11,8 @@
 //!   [`rope::identify`] infers load masses from observed motion.
 //! * [`fluid`]: 2D position-based fluids, the fluid scenario's truth solver (the release's Obi
 //!   Fluid settings).
+//! * [`shape_matching`]: particle soft bodies held by shape matching, the ball scenario's truth
+//!   solver (the release's Obi Softbody settings).
 //! * [`mpm`]: 2D MLS-MPM (core plus materials), ContPRO's simulator for fluids and balls.
 //! * [`linalg`]: the small dense solvers they share.
 //! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
@@ -21,3 +23,4 @@ pub mod fluid;
 pub mod linalg;
 pub mod mpm;
 pub mod rope;
+pub mod shape_matching;
