@@ -18,6 +18,7 @@ mod error;
 mod fields;
 pub mod fluid;
 mod four_d;
+pub mod palette;
 mod question;
 mod question_file;
 pub mod rope;

@@ -19,6 +19,7 @@
 pub mod annotate;
 pub mod appearance;
 pub mod background;
+pub mod ball;
 pub mod camera;
 mod error;
 pub mod fluid;
@@ -27,6 +28,7 @@ pub use crate::perception::palette;
 pub mod raster;
 pub mod rope;
 pub mod shadow;
+pub mod unity;
 pub mod video;
 
 use std::path::{Path, PathBuf};

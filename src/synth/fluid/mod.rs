@@ -29,9 +29,9 @@ use super::background::Wall;
 use super::camera::{CameraSample, frame_camera, truncated_normal};
 use super::raster::Light;
 use super::shadow::RELEASE_SHADOW;
+use super::unity::{camera_json, round, vector3};
 use super::{ScenarioSynth, SynthError, SynthesizedVideo};
 use crate::dataset::Scenario;
-use crate::perception::camera::CameraModel;
 use crate::util::{derive_seed, seeded_rng};
 
 /// Trials before giving up on a seed (a trial fails only when the solver does).
@@ -222,34 +222,8 @@ fn light_from_euler(euler_deg: [f64; 3]) -> Light {
     }
 }
 
-fn round(value: f64, digits: i32) -> f64 {
-    let scale = 10_f64.powi(digits);
-    (value * scale).round() / scale
-}
-
-/// Unity's `Vector3.ToString()`: two decimals, `(x, y, z)`.
-fn vector3(v: [f64; 3]) -> String {
-    let fixed = |c: f64| {
-        let text = format!("{c:.2}");
-        if text == "-0.00" {
-            "0.00".to_string()
-        } else {
-            text
-        }
-    };
-    format!("({}, {}, {})", fixed(v[0]), fixed(v[1]), fixed(v[2]))
-}
-
 fn light_json(euler_deg: [f64; 3]) -> Value {
     json!({"Prefabs/Fluid Slides/Directional Light": {"rotation": euler_deg.map(|c| round(c, 4))}})
-}
-
-fn camera_json(camera: &CameraModel) -> Value {
-    json!({"Main Camera": {
-        "position": camera.position.map(|c| round(c, 6)),
-        "rotation": camera.euler_deg().map(|c| round(c, 6)),
-        "fov": [round(camera.vertical_fov_deg, 6)],
-    }})
 }
 
 /// A stick's `GetAll()` (local coordinates).
