@@ -114,7 +114,11 @@ static TABLE: [ScenarioParts; 4] = [
         physics_bench: Some(&scene_api::fluid::physics_bench::BENCH),
     },
     ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),
-    ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY),
+    ScenarioParts {
+        engine: Some(&engine::ball::ENGINE),
+        synth: Some(&synth::ball::BALL_SYNTH),
+        ..ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY)
+    },
 ];
 
 /// Every row, in the paper's order.

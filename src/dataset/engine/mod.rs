@@ -13,6 +13,7 @@
 //! id, so the same inputs give byte-identical files. This module depends only on `dataset` types
 //! and `util`.
 
+pub mod ball;
 mod error;
 pub mod fluid;
 pub(crate) mod record;

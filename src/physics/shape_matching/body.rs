@@ -27,7 +27,7 @@ use super::matrix::{self, IDENTITY, Matrix, NO_ROTATION, Quaternion, Vector};
 
 /// Particles of a ball: its centre, a shell of 18 halfway out and a shell of 72 at the surface
 /// (the release's balls have 91).
-pub const BALL_PARTICLES: usize = 91;
+pub const SPHERE_PARTICLES: usize = 91;
 /// Particles of the inner shell.
 const INNER_SHELL: usize = 18;
 /// Rotation-extraction steps per projection (warm-started from the last one).
@@ -81,7 +81,7 @@ pub const PLASTIC: SoftMaterial = SoftMaterial {
 /// The particle offsets of a ball of particle-centre radius `radius`: the centre, 18 points at
 /// half the radius and 72 at the radius, each shell a Fibonacci lattice (nearly even spacing,
 /// no pole clusters), the inner one turned by half the golden angle against the outer.
-pub fn ball_offsets(radius: f64) -> Vec<Vector> {
+pub fn sphere_offsets(radius: f64) -> Vec<Vector> {
     let golden_angle = std::f64::consts::PI * (3.0 - 5.0_f64.sqrt());
     let shell = |count: usize, shell_radius: f64, turn: f64| {
         (0..count).map(move |index| {
@@ -97,7 +97,7 @@ pub fn ball_offsets(radius: f64) -> Vec<Vector> {
     };
     let mut offsets = vec![[0.0; 3]];
     offsets.extend(shell(INNER_SHELL, 0.5 * radius, 0.5 * golden_angle));
-    offsets.extend(shell(BALL_PARTICLES - 1 - INNER_SHELL, radius, 0.0));
+    offsets.extend(shell(SPHERE_PARTICLES - 1 - INNER_SHELL, radius, 0.0));
     offsets
 }
 

@@ -32,7 +32,7 @@ mod collider;
 pub mod matrix;
 
 pub use body::{
-    BALL_PARTICLES, Body, ELASTIC, PLASTIC, Plasticity, RIGID, SoftMaterial, ball_offsets,
+    Body, ELASTIC, PLASTIC, Plasticity, RIGID, SPHERE_PARTICLES, SoftMaterial, sphere_offsets,
 };
 pub use collider::{Contact, Slab};
 
@@ -194,7 +194,7 @@ impl SoftBodyWorld {
     ///
     /// # Errors
     /// A radius not above two particle radii, or a mass not positive.
-    pub fn add_ball(
+    pub fn add_sphere(
         &mut self,
         centre: Vector,
         radius: f64,
@@ -204,19 +204,19 @@ impl SoftBodyWorld {
         let particle_radius = self.parameters.particle_radius;
         if !(radius.is_finite() && radius > 2.0 * particle_radius) {
             return Err(SoftBodyError::Setting {
-                name: "ball radius",
+                name: "sphere radius",
                 value: radius,
                 expected: "must exceed two particle radii",
             });
         }
         if !(mass.is_finite() && mass > 0.0) {
             return Err(SoftBodyError::Setting {
-                name: "ball mass",
+                name: "sphere mass",
                 value: mass,
                 expected: "must be positive and finite",
             });
         }
-        let offsets = ball_offsets(radius - particle_radius);
+        let offsets = sphere_offsets(radius - particle_radius);
         let particle_mass = mass / offsets.len() as f64;
         let body =
             Body::new(centre, &offsets, particle_mass, material).ok_or(SoftBodyError::Flat {

@@ -37,7 +37,7 @@ fn free_fall_is_the_integrators_closed_form() {
     // Symplectic Euler with substep h: after k substeps from rest, y = y₀ + g h² k(k+1)/2.
     let mut world = world(Vec::new());
     world
-        .add_ball([0.0, 10.0, 0.0], RADIUS, 1.0, ELASTIC)
+        .add_sphere([0.0, 10.0, 0.0], RADIUS, 1.0, ELASTIC)
         .unwrap();
     let parameters = SoftBodyParameters::default();
     let h = parameters.update_seconds / parameters.substeps as f64;
@@ -62,7 +62,7 @@ fn a_ball_comes_to_rest_on_the_floor_at_its_radius() {
     for material in [RIGID, ELASTIC, PLASTIC] {
         let mut world = world(vec![floor()]);
         world
-            .add_ball([0.0, 1.5, 0.0], RADIUS, 1.0, material)
+            .add_sphere([0.0, 1.5, 0.0], RADIUS, 1.0, material)
             .unwrap();
         let last_second = heights(&mut world, 600).split_off(540);
         let body = &world.bodies()[0];
@@ -96,7 +96,7 @@ fn a_ball_comes_to_rest_on_the_floor_at_its_radius() {
 fn rebound(material: SoftMaterial) -> (f64, Body) {
     let mut world = world(vec![floor()]);
     world
-        .add_ball([0.0, 3.0, 0.0], RADIUS, 1.0, material)
+        .add_sphere([0.0, 3.0, 0.0], RADIUS, 1.0, material)
         .unwrap();
     let mut rebounded = false;
     let mut highest = f64::NEG_INFINITY;
@@ -152,9 +152,11 @@ fn momentum_is_kept_in_a_collision_without_gravity() {
     };
     let mut world = SoftBodyWorld::new(parameters, Vec::new()).unwrap();
     let a = world
-        .add_ball([-1.0, 0.0, 0.0], RADIUS, 1.0, ELASTIC)
+        .add_sphere([-1.0, 0.0, 0.0], RADIUS, 1.0, ELASTIC)
         .unwrap();
-    let b = world.add_ball([1.0, 0.1, 0.0], RADIUS, 3.0, RIGID).unwrap();
+    let b = world
+        .add_sphere([1.0, 0.1, 0.0], RADIUS, 3.0, RIGID)
+        .unwrap();
     world.body_mut(a).unwrap().set_velocity([3.0, 0.0, 0.0]);
     world.body_mut(b).unwrap().set_velocity([-1.0, 0.0, 0.0]);
     let momentum = |world: &SoftBodyWorld| {
@@ -197,7 +199,7 @@ fn a_rigid_ball_rolls_down_a_slope_and_keeps_its_shape() {
         0.0,
     ];
     let mut world = world(vec![slope]);
-    world.add_ball(start, RADIUS, 1.0, RIGID).unwrap();
+    world.add_sphere(start, RADIUS, 1.0, RIGID).unwrap();
     let original: Vec<_> = world.bodies()[0].positions().to_vec();
     let updates: u16 = 60;
     for _ in 0..updates {
@@ -238,10 +240,10 @@ fn nothing_passes_through_a_slab_at_the_fastest_speeds() {
     for material in [RIGID, ELASTIC, PLASTIC] {
         let mut world = world(vec![floor(), wall.clone()]);
         world
-            .add_ball([-3.0, 7.6, 0.0], RADIUS, 1.0, material)
+            .add_sphere([-3.0, 7.6, 0.0], RADIUS, 1.0, material)
             .unwrap();
         let fired = world
-            .add_ball([-2.0, 1.0, 0.0], RADIUS, 1.0, material)
+            .add_sphere([-2.0, 1.0, 0.0], RADIUS, 1.0, material)
             .unwrap();
         world
             .body_mut(fired)
@@ -276,12 +278,12 @@ fn settings_that_would_let_a_particle_tunnel_are_refused() {
         }
     ));
     let error = world(Vec::new())
-        .add_ball([0.0; 3], 0.2, 1.0, RIGID)
+        .add_sphere([0.0; 3], 0.2, 1.0, RIGID)
         .unwrap_err();
     assert!(matches!(
         error,
         SoftBodyError::Setting {
-            name: "ball radius",
+            name: "sphere radius",
             ..
         }
     ));
@@ -309,11 +311,13 @@ fn stadium() -> SoftBodyWorld {
         },
     ]);
     world
-        .add_ball([-1.0, 6.0, 0.0], RADIUS, 1.0, ELASTIC)
+        .add_sphere([-1.0, 6.0, 0.0], RADIUS, 1.0, ELASTIC)
         .unwrap();
-    world.add_ball([5.5, 5.5, 0.0], RADIUS, 1.0, RIGID).unwrap();
     world
-        .add_ball([2.0, 6.5, 0.0], RADIUS, 1.0, PLASTIC)
+        .add_sphere([5.5, 5.5, 0.0], RADIUS, 1.0, RIGID)
+        .unwrap();
+    world
+        .add_sphere([2.0, 6.5, 0.0], RADIUS, 1.0, PLASTIC)
         .unwrap();
     world
 }

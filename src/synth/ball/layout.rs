@@ -31,7 +31,7 @@ pub const PIT_WIDTH: f64 = 1.2;
 /// The ramps' top height, units, and their foot's.
 pub const RAMP_ENDS_Y: [f64; 2] = [-0.07, 4.04];
 /// Depth (z extent) of every slab as drawn, units.
-pub const SLAB_DEPTH: f64 = 2.0;
+pub const SLAB_DEPTH: f64 = 1.0;
 /// A ball's radius, units (the prefab's unit sphere: not recorded).
 pub const BALL_RADIUS: f64 = 0.5;
 /// Palette ids of the ramp, wall and ball colours (White, Red, Black, Orange, Yellow, Green,

@@ -33,8 +33,8 @@ use crate::util::seeded_rng;
 
 /// Trials before giving up on a seed (a trial fails only when the solver does).
 const MAX_TRIALS: u32 = 20;
-/// The point the camera looks at, units: the stadium's middle, above the floor.
-const LOOK_AT: [f64; 3] = [0.0, 2.5, 0.0];
+/// The point the camera looks at, units: the middle of the stadium between the floor and the balls' release heights.
+const LOOK_AT: [f64; 3] = [0.0, 3.4, 0.0];
 /// The camera's distance, units.
 const CAMERA_DISTANCE: f64 = 16.0;
 /// The light's object name in `outputLight`.
@@ -179,7 +179,7 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<SynthesizedVid
         camera,
         light: light_from_euler(light_euler),
         wall: Wall {
-            depth: 2.0,
+            depth: 1.5,
             color: [0.82, 0.83, 0.85],
             variant: 0,
             frequency: 0.8,

@@ -106,7 +106,7 @@ pub fn run(layout: &Layout, kind: RunKind) -> Result<BallRun, SoftBodyError> {
     let mut world = SoftBodyWorld::new(SoftBodyParameters::default(), slabs(layout, removed))?;
     for &index in &balls {
         if let Some(ball) = layout.balls.get(index) {
-            world.add_ball(
+            world.add_sphere(
                 ball.release,
                 BALL_RADIUS,
                 BALL_MASS,

@@ -78,13 +78,17 @@ fn print_outcomes() {
         updates += factual.updates;
         for (i, r) in factual.records.iter().enumerate() {
             let kind = layout.balls[factual.balls[i]].elasticity.as_str();
-            *counts.entry(format!("F {kind} {}", r.result.as_str())).or_insert(0) += 1;
+            *counts
+                .entry(format!("F {kind} {}", r.result.as_str()))
+                .or_insert(0) += 1;
         }
         for wall in 0..2 {
             for ball in 0..3 {
                 let alone = run(&layout, RunKind::Counterfactual { wall, ball }).unwrap();
                 updates += alone.updates;
-                *counts.entry(format!("CF {}", alone.records[0].result.as_str())).or_insert(0) += 1;
+                *counts
+                    .entry(format!("CF {}", alone.records[0].result.as_str()))
+                    .or_insert(0) += 1;
             }
         }
     }
