@@ -10,9 +10,9 @@ Scenarios and their objects (the words `SoftScene.find` understands):
 - rope:  cube, sphere, pulley (solid or hollow, static or dynamic), rope, fixed point
 - fluid: fluid, container, stick, emitter (a first or a later emitter)
 - cloth: cloth, pillar, plate
-- ball:  ball, stick, pit, floating wall
+- ball:  ball, stick, pit, floating wall, ramp
 
-Rope and fluid videos can be answered by this version: on a cloth or ball video every query
+Rope, fluid and ball videos can be answered by this version: on a cloth video every query
 raises `SceneUnavailableError`. The signatures below are the paper's for all four scenarios.
 
 Errors: a wrong call (unknown word, unknown property or action, an empty list where one object
@@ -69,7 +69,8 @@ class SceneObject:
 
     kind: str
     """The object class: rope scenes have 'cube', 'sphere', 'pulley', 'rope', 'fixed point';
-    fluid scenes 'fluid', 'container', 'stick', 'emitter'."""
+    fluid scenes 'fluid', 'container', 'stick', 'emitter'; ball scenes 'ball', 'floating wall',
+    'ramp', 'pit'."""
 
     type: str
     """The same as `kind` (the paper's name for it)."""
@@ -86,6 +87,10 @@ class SceneObject:
     """Fluid scenes. Emitters: 'first' for the emitter that pours its fluid from the start of
     the video, 'later' for a fluid's second emitter, which opens near the end of the video (the
     questions' "the other yellow emitter"); None for other objects."""
+
+    side: str | None
+    """Ball scenes. Pits and ramps: 'left' or 'right' (pits have no colour: their names are
+    'left pit' and 'right pit'; a ramp's is e.g. 'yellow left ramp'); None for other objects."""
 
 class SceneEvent:
     """An event registered with `SoftScene.register_event`; pass it to
@@ -157,7 +162,8 @@ class SoftScene:
           black, white, light blue, light green, light yellow, light coral, light purple.
           Colours match exactly: 'blue' does not find a 'light blue' object.
         - kinds: the scenario's objects (rope: cube, sphere, pulley, rope, fixed point, and
-          'load' means a cube or a sphere; fluid: fluid, container, stick, emitter). A kind of
+          'load' means a cube or a sphere; fluid: fluid, container, stick, emitter; ball: ball,
+          floating wall, ramp, pit, and stick, which finds nothing in ball scenes). A kind of
           another scenario ('container' in a rope scene) finds nothing.
         - rope pulley shapes: solid (also small, little), hollow (also big, large); a shape
           alone means a pulley.
@@ -166,6 +172,8 @@ class SoftScene:
         - fluid emitter emissions: first (also original), later (also other, second,
           predictive); an emission alone means an emitter. 'the other yellow emitter' is the
           yellow fluid's later emitter; 'yellow emitter' finds both of its emitters.
+        - ball pit and ramp sides: left, right; a side alone means a pit ('left pit',
+          'yellow left ramp').
         Any other word raises `SceneApiError` listing the vocabulary; so does naming two
         different colours or kinds in one call (find one description at a time).
 
@@ -209,6 +217,11 @@ class SoftScene:
             - 'tension' of a rope, in N: the weight (m * 9.81) of the load the rope carries;
               None when the rope carries loads of different masses or none.
             Fluid scenes have 'density' of a fluid, in kg/m³ (e.g. 1600, 3000, 4400).
+            Ball scenes have 'elasticity' and 'plasticity' of a ball, scores of its material:
+            elasticity 1 for the elastic ball, 0 for the rigid and the plastic one; plasticity
+            1 for the plastic ball, 0 for the others. `query_pair` gives (None, None) for two
+            balls whose materials do not order them (rigid and plastic on elasticity, elastic
+            and rigid on plasticity).
             Other properties, or mass of a pulley or rope, tension of a non-rope, density of a
             non-fluid, raise `SceneApiError`.
         object : SceneObject | list[SceneObject]
@@ -293,6 +306,12 @@ class SoftScene:
               `find("other yellow emitter")`); in that dynamic scene the fluid of the
               emitter's colour is the fluid it emits;
             - 'simulate' with [] and attribute '': the factual future of the video.
+            Ball scenes support:
+            - 'remove' with [] and a floating wall's description ('red floating wall and
+              other balls', or 'red floating wall'), or with the wall as the object: the
+              counterfactual "if we removed the red floating wall and other balls", in which
+              the ball `happen` asks about falls alone;
+            - 'simulate' with [] and attribute '': the factual future of the video.
             A removal the video has no record of raises `SceneUnavailableError`.
         attribute : str | SceneObject | list[SceneObject]
             What changes: 'mass' for increase/decrease, '' for simulate, 'fluid' for emit; for
@@ -317,6 +336,9 @@ class SoftScene:
 
         >>> # Which stick will the fluid from the other yellow emitter pass?
         >>> pred_init_event = fluid_scene.register_event(fluid_scene.find("other yellow emitter"), "emit", "fluid")
+
+        >>> # If we removed the red floating wall and other balls, ...
+        >>> cf_init_event = ball_scene.register_event([], "remove", "red floating wall and other balls")
         """
 
     def event(
@@ -380,6 +402,8 @@ class SoftDynamicScene:
               container ("let most of the pink fluid enter the gray container").
             The fluid of a later emitter does not flow in 'remove' scenes (the video's
             counterfactual runs pour the first emitters only).
+            Ball scenes answer 'droping' for a ball and a pit: the ball finally drops into that
+            pit (during the video or after it).
         target : str | SceneObject | list[SceneObject]
             A direction word (rope), a description ('red container') or objects (fluid, ball
             and cloth targets such as `[black_container]`: one stick or container in fluid

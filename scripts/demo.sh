@@ -3,7 +3,7 @@
 # through apt-get when it can; ONNX Runtime into the project, scripts/setup-onnxruntime.sh),
 # builds, and evaluates every question of the embedded real rope video with ContPRO's pipeline
 # (--perception maskrcnn --dynamics simulate), then every question of the two embedded generated
-# fluid videos with the oracle backends. Without a runtime (no pip, not Linux x86_64) it
+# fluid videos and of the two generated ball videos with the oracle backends. Without a runtime (no pip, not Linux x86_64) it
 # says so and runs the oracle perception instead. Extra arguments go to contphy-eval.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +40,7 @@ fi
 # A new run directory each time (runs/demo, runs/demo-2, ...): earlier runs are kept.
 out=runs/demo
 n=1
-while [ -e "${out}/manifest.json" ] || [ -e "${out}-fluid/manifest.json" ]; do
+while [ -e "${out}/manifest.json" ] || [ -e "${out}-fluid/manifest.json" ] || [ -e "${out}-ball/manifest.json" ]; do
   n=$((n + 1))
   out="runs/demo-${n}"
 done
@@ -49,6 +49,11 @@ cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_gr
 # Fluid: two generated videos (eval/demo/fluid_slides/), every question the engine made for them,
 # with the oracle backends (ContPRO's fluid pipeline, --dynamics simulate and --perception maskrcnn,
 # is measured in docs/data/fluid.md; these 320x180 videos are smaller than its detector's input).
-exec cargo run --release --locked -- --data eval/demo --questions eval/demo/fluid_slides/0.json \
+cargo run --release --locked -- --data eval/demo --questions eval/demo/fluid_slides/0.json \
   --questions eval/demo/fluid_slides/1.json --out "${out}-fluid" \
+  --perception annotation --dynamics annotation "$@"
+# Ball: two generated videos (eval/demo/soft_body/), every question the engine made for them, with
+# the oracle backends (ball videos are answered from their annotations in this version).
+exec cargo run --release --locked -- --data eval/demo --questions eval/demo/soft_body/0.json \
+  --questions eval/demo/soft_body/1.json --out "${out}-ball" \
   --perception annotation --dynamics annotation "$@"

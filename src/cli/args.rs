@@ -46,7 +46,7 @@ pub enum Command {
     /// Print the exact prompt a question (or one of its options) sends to the model.
     Render(RenderArgs),
     /// Generate questions from video annotations (rope: the public engine re-implemented;
-    /// fluid: the paper's templates).
+    /// fluid, ball: the paper's templates).
     Questions(QuestionsArgs),
     /// Generate synthetic videos in the release format (annotations, 4-D data, frames), then
     /// their questions.
@@ -398,7 +398,7 @@ pub struct QuestionsArgs {
     /// Seed of the question engine and sampler.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Property questions sampled per video [default: the paper's, rope 2, fluid 1].
+    /// Property questions sampled per video [default: the paper's, rope 2, fluid and ball 1].
     #[arg(long, value_name = "N")]
     fact_per_video: Option<usize>,
     /// Dynamics questions sampled per video [default: 2].
@@ -409,7 +409,7 @@ pub struct QuestionsArgs {
 /// `generate` arguments.
 #[derive(Debug, Args)]
 pub struct GenerateArgs {
-    /// The scenario to generate: rope or fluid.
+    /// The scenario to generate: rope, fluid or ball.
     #[arg(long, value_name = "SCENARIO")]
     scenario: Option<Scenario>,
     /// Number of videos (folders 0 … N−1).

@@ -115,8 +115,11 @@ static TABLE: [ScenarioParts; 4] = [
     },
     ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),
     ScenarioParts {
+        demo: Some("eval/demo/soft_body/0"),
         engine: Some(&engine::ball::ENGINE),
         synth: Some(&synth::ball::BALL_SYNTH),
+        writer: Some(&builtin::ball::WRITER),
+        scene: Some(scene_api::ball::load),
         ..ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY)
     },
 ];

@@ -13,6 +13,7 @@
 //! Shared here: scenes, objects, `find`'s parser and the detector-backed [`perceiver`]. Each
 //! scenario's backend lives in `scene_api/<scenario>/`.
 
+pub mod ball;
 mod error;
 mod find;
 pub mod fluid;

@@ -127,7 +127,11 @@ impl SceneObjectInfo {
     /// The short name used in questions: colour, the values shown in names, kind (`blue solid
     /// pulley`, `purple cube`).
     pub fn describe(&self) -> String {
-        let mut words = vec![self.color.as_str()];
+        // Objects without a colour (a ball scene's pits) start with their attributes.
+        let mut words: Vec<&str> = Some(self.color.as_str())
+            .filter(|color| !color.is_empty())
+            .into_iter()
+            .collect();
         words.extend(
             self.attributes
                 .iter()

@@ -429,3 +429,95 @@ fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks()
         assert!(read(out.path()) == read(again.path()), "{file} differs");
     }
 }
+
+#[test]
+fn generated_ball_videos_load_ask_questions_and_their_boxes_match_their_masks() {
+    use contphy_eval::dataset::ball::BallAnnotation;
+    use contphy_eval::dataset::engine::ball::ENGINE;
+    use contphy_eval::synth::ball::BALL_SYNTH;
+    use contphy_eval::synth::{
+        GenerateOptions, appearance::Appearance, generate, video::FrameOutput,
+    };
+    let out = tempfile::tempdir().unwrap();
+    let options = GenerateOptions {
+        scenario: Scenario::Ball,
+        videos: 1,
+        seed: 4,
+        out: out.path().to_path_buf(),
+        jobs: 1,
+        frames: FrameOutput::Png,
+        width: 192,
+        height: 108,
+        appearance: Appearance::Release,
+    };
+    generate(&BALL_SYNTH, &options, &|_| {}).unwrap();
+    let data = DataRoot::open(out.path()).unwrap();
+    let listing = data.list_videos(Scenario::Ball).unwrap();
+    let video = &listing.valid[0];
+    let annotation = BallAnnotation::load(&video.outputs_json()).unwrap();
+    assert_eq!(annotation.frame_count, 120);
+    assert_eq!(annotation.counterfactuals.len(), 6);
+    let questions = (ENGINE.generate)(video, 0).unwrap();
+    assert_eq!(questions.question_dict.len(), ENGINE.families.len());
+    assert_eq!(questions.question_dict["elasticity"].len(), 4);
+    let raw: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
+    let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
+    let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
+    let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
+    let frames = [0_usize, 60];
+    let images = segmentation.read(&frames).unwrap();
+    let mut balls_seen = 0;
+    for (frame, image) in frames.iter().zip(&images) {
+        for (id, [x0, y0, width, height]) in boxes(&per_frame[(frame + 1).to_string()]) {
+            let color = &instance_color(id)[..3];
+            let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
+            for y in 0..image.height {
+                for x in 0..image.width {
+                    if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
+                        low_x = low_x.min(x);
+                        low_y = low_y.min(y);
+                        high_x = high_x.max(x);
+                        high_y = high_y.max(y);
+                    }
+                }
+            }
+            let name = names[id.to_string()].as_str().unwrap();
+            assert!(
+                low_x != u32::MAX,
+                "{name} has a box but no mask in frame {frame}"
+            );
+            let mask_box = [low_x, low_y, high_x - low_x + 1, high_y - low_y + 1].map(f64::from);
+            assert!(
+                mask_box
+                    .iter()
+                    .zip([x0, y0, width, height])
+                    .all(|(a, b)| (a - b).abs() < 1e-9),
+                "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
+                [x0, y0, width, height]
+            );
+            balls_seen += usize::from(name.ends_with(" Ball"));
+        }
+    }
+    assert!(
+        balls_seen >= 4,
+        "the balls are drawn and labelled: {balls_seen}"
+    );
+    // The same seed gives the same bytes whatever the job count.
+    let again = tempfile::tempdir().unwrap();
+    let options = GenerateOptions {
+        videos: 2,
+        jobs: 2,
+        out: again.path().to_path_buf(),
+        ..options
+    };
+    generate(&BALL_SYNTH, &options, &|_| {}).unwrap();
+    for file in [
+        "outputs.json",
+        "outputs4D.json",
+        "frames/output_Full_ori/frame_00060.png",
+    ] {
+        let read = |root: &Path| fs_err::read(root.join("soft_body/0").join(file)).unwrap();
+        assert!(read(out.path()) == read(again.path()), "{file} differs");
+    }
+}

@@ -313,7 +313,7 @@ fn other_scenarios_render_with_their_own_examples() {
         ),
         (
             Scenario::Ball,
-            "ball/ball_counterfactual",
+            "ball/ball_counterfactual_remove",
             "use `SoftScene(video, 'ball')`",
         ),
     ];

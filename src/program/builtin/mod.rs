@@ -8,6 +8,7 @@
 //! `execute_command(video)` function opening the scene, and in per-question mode one function per
 //! option. The programs are real Python that goes through the sandbox; nothing is answered here.
 
+pub mod ball;
 pub mod fluid;
 pub mod rope;
 

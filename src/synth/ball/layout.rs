@@ -127,7 +127,7 @@ pub fn color_name(id: usize) -> &'static str {
     PALETTE_NAMES.get(id).copied().unwrap_or("Gray")
 }
 
-/// Samples a layout. `None` only if no vertical wall fit in [`MAX_TRIES`] draws of the stadium
+/// Samples a layout. `None` only if no vertical wall fit in 1,000 draws of the stadium
 /// and the slanted wall (it always fits for half-widths the release draws).
 pub fn sample_layout(rng: &mut ChaCha8Rng) -> Option<Layout> {
     for _ in 0..MAX_TRIES {

@@ -1,0 +1,407 @@
+//! The ball scene (`soft_body`): objects from the annotation's layout; materials and pit
+//! outcomes from its records (`--dynamics annotation`, the paper's offline mode).
+//!
+//! Input: a video's `outputs.json` ([`BallAnnotation`]). Output: the scene's objects and the
+//! answers of `query`, `register_event` and `happen` (`docs/data/ball.md`). Ball dynamics are
+//! not simulated and ball videos are not read from pixels in this version: `--dynamics
+//! simulate` and `--perception maskrcnn` say so (`ApiError::Unavailable`).
+//!
+//! Objects, in this order: the balls (`Red Ball`), the floating walls (`White Floating Wall`),
+//! the ramps (`Right Ramp`, `Left Ramp`: kind `ramp`, their colour, `side` right or left), then
+//! the two pits (`Left Pit`, `Right Pit`: kind `pit`, no colour, `side` left or right). The floor
+//! pieces are not objects (the pits are what lies between them).
+//!
+//! Answers agree with the question engine (`dataset::engine::ball`) by construction, reading
+//! the same keys with the same rules:
+//!
+//! * `elasticity` and `plasticity` are scores of the release's materials: elasticity 1 for the
+//!   `Elastic` ball, 0 for the `Rigid` and `Plastic` ones; plasticity 1 for the `Plastic` ball,
+//!   0 for the others. `query_pair` gives `(None, None)` for two balls the materials do not
+//!   order (rigid and plastic on elasticity, elastic and rigid on plasticity).
+//! * events: `register_event([], 'simulate', '')` is the factual run; `register_event([],
+//!   'remove', 'red floating wall and other balls')` (or the wall as the object) is the run
+//!   without that wall in which the ball `happen` asks about is alone.
+//! * `happen([ball], 'droping', [pit])`: the run's `pitResult` for the ball names that pit
+//!   (observed in the video or after it).
+
+#[cfg(test)]
+mod tests;
+
+use crate::dataset::Scenario;
+use crate::dataset::ball::names::parse_ball_object_name;
+use crate::dataset::ball::outcome::{Pit, PitRecord};
+use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
+use crate::dataset::vocabulary::Vocabulary;
+use crate::scene_api::{
+    ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
+};
+
+/// The vocabulary attribute that tells the pits apart.
+const SIDE: &str = "side";
+/// The words a removal names besides its wall (`red floating wall and other balls`).
+const AND_OTHER_BALLS: &str = " and other balls";
+
+/// Loads the backend of a ball video (the scenario table's scene backend for ball).
+pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
+    if spec.perception != PerceptionBackend::Annotation {
+        return Err(ApiError::Unavailable(
+            "ball videos are not read from pixels in this version: use --perception annotation"
+                .to_string(),
+        ));
+    }
+    if spec.dynamics == DynamicsBackend::Simulate {
+        return Err(ApiError::Unavailable(
+            "ball dynamics are not simulated in this version: use --dynamics annotation"
+                .to_string(),
+        ));
+    }
+    let annotation = BallAnnotation::load(&spec.video_dir.join("outputs.json"))?;
+    Ok(Box::new(BallBackend::new(annotation)))
+}
+
+/// What an object of the scene stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Role {
+    /// A ball and its material.
+    Ball(ElasticityType),
+    /// A floating wall.
+    Wall,
+    /// A ramp, on this side.
+    Ramp,
+    /// A pit.
+    Pit(Pit),
+}
+
+/// One ball video's answers, from its annotations.
+pub(crate) struct BallBackend {
+    annotation: BallAnnotation,
+    objects: Vec<SceneObjectInfo>,
+    roles: Vec<Role>,
+}
+
+/// The run an event starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Run<'a> {
+    /// The factual run.
+    Factual,
+    /// The run without this floating wall (each ball alone).
+    Without(&'a SceneObjectInfo),
+}
+
+impl BallBackend {
+    /// The backend of `annotation`.
+    pub(crate) fn new(annotation: BallAnnotation) -> BallBackend {
+        let mut named: Vec<(String, String, Role)> = Vec::new();
+        // The side of each ramp, by its index in `named`.
+        let mut sides: Vec<(usize, Pit)> = Vec::new();
+        let color_of = |name: &str| parse_ball_object_name(name).and_then(|parsed| parsed.color);
+        for ball in &annotation.layout.balls {
+            if let Some(color) = color_of(&ball.name) {
+                named.push((
+                    ball.name.clone(),
+                    color.to_string(),
+                    Role::Ball(ball.elasticity),
+                ));
+            }
+        }
+        for wall in &annotation.layout.floating_walls {
+            if let Some(color) = color_of(&wall.name) {
+                named.push((wall.name.clone(), color.to_string(), Role::Wall));
+            }
+        }
+        for ramp in &annotation.layout.ramps {
+            let color = crate::dataset::palette::palette_name(i64::from(ramp.color));
+            let side = if ramp.name.starts_with("Left") {
+                Pit::Left
+            } else {
+                Pit::Right
+            };
+            if let Some(color) = color {
+                named.push((ramp.name.clone(), color.to_string(), Role::Ramp));
+                sides.push((named.len() - 1, side));
+            }
+        }
+        for pit in Pit::BOTH {
+            let name = match pit {
+                Pit::Left => "Left Pit",
+                Pit::Right => "Right Pit",
+            };
+            named.push((name.to_string(), String::new(), Role::Pit(pit)));
+        }
+        let (objects, roles) = named
+            .into_iter()
+            .enumerate()
+            .map(|(index, (name, color, role))| {
+                let side = |pit: Pit| vec![(SIDE, pit.word().to_string())];
+                let (kind, attributes) = match role {
+                    Role::Ball(_) => ("ball", Vec::new()),
+                    Role::Wall => ("floating wall", Vec::new()),
+                    Role::Ramp => {
+                        let pit = sides
+                            .iter()
+                            .find(|(at, _)| *at == index)
+                            .map_or(Pit::Right, |(_, pit)| *pit);
+                        ("ramp", side(pit))
+                    }
+                    Role::Pit(pit) => ("pit", side(pit)),
+                };
+                let object = SceneObjectInfo::new(
+                    ObjectId(u32::try_from(index).unwrap_or(u32::MAX)),
+                    &name,
+                    &color.to_lowercase(),
+                    kind,
+                    &attributes,
+                    &VOCABULARY,
+                );
+                (object, role)
+            })
+            .unzip();
+        BallBackend {
+            annotation,
+            objects,
+            roles,
+        }
+    }
+
+    fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
+        self.objects.get(id.0 as usize).ok_or_else(|| {
+            misuse(format!(
+                "{function}: object #{} does not belong to this scene",
+                id.0
+            ))
+        })
+    }
+
+    fn role(&self, object: &SceneObjectInfo) -> Option<Role> {
+        self.roles.get(object.id.0 as usize).copied()
+    }
+
+    /// The objects a description names, in `find`'s words.
+    fn resolve(&self, description: &str, function: &str) -> Result<Vec<ObjectId>, ApiError> {
+        const OWN: [&Vocabulary; 1] = [&VOCABULARY];
+        let words = Words {
+            scenario: Scenario::Ball.name(),
+            own: &VOCABULARY,
+            all: &OWN,
+        };
+        let query = parse_object_query(description, words).map_err(|error| {
+            let reason = error.to_string();
+            misuse(format!(
+                "{function}: cannot read `{description}`: {}",
+                reason.strip_prefix("find: ").unwrap_or(&reason)
+            ))
+        })?;
+        Ok(self
+            .objects
+            .iter()
+            .filter(|object| query.matches(object, &VOCABULARY))
+            .map(|object| object.id)
+            .collect())
+    }
+
+    /// The short names of the scene's objects of `kind`, for messages.
+    fn names_of_kind(&self, kind: &str) -> String {
+        let names: Vec<String> = self
+            .objects
+            .iter()
+            .filter(|object| object.kind == kind)
+            .map(SceneObjectInfo::describe)
+            .collect();
+        format!("the {kind}s are: {}", names.join(", "))
+    }
+
+    /// The one object of `kind` that `ids` name, for `function`'s messages about `what`.
+    fn one_of_kind(
+        &self,
+        ids: &[ObjectId],
+        kind: &str,
+        function: &str,
+        what: &str,
+    ) -> Result<&SceneObjectInfo, ApiError> {
+        match ids {
+            [one] => {
+                let object = self.info(*one, function)?;
+                if object.kind == kind {
+                    Ok(object)
+                } else {
+                    Err(misuse(format!(
+                        "{function}: {what} takes a {kind}, not the {}",
+                        object.describe()
+                    )))
+                }
+            }
+            [] => Err(misuse(format!(
+                "{function}: {what} names no {kind} (an empty list: `find` found no such object); {}",
+                self.names_of_kind(kind)
+            ))),
+            many => Err(misuse(format!(
+                "{function}: {what} takes one {kind}, got {} objects",
+                many.len()
+            ))),
+        }
+    }
+
+    /// The run `event` starts.
+    fn event_run(&self, event: &SceneEvent, function: &str) -> Result<Run<'_>, ApiError> {
+        match event.action {
+            EventAction::Simulate => Ok(Run::Factual),
+            EventAction::Remove => {
+                let attribute = event.attribute.trim().to_lowercase();
+                let description = attribute
+                    .strip_suffix(AND_OTHER_BALLS)
+                    .unwrap_or(&attribute)
+                    .trim();
+                let plain = description.is_empty() || description == "floating wall";
+                let ids = if !event.attribute_objects.is_empty() {
+                    event.attribute_objects.clone()
+                } else if let (Some(object), true) = (event.object, plain) {
+                    vec![object]
+                } else {
+                    self.resolve(description, function)?
+                };
+                let wall = self.one_of_kind(&ids, "floating wall", function, "'remove'")?;
+                Ok(Run::Without(wall))
+            }
+            EventAction::Increase | EventAction::Decrease | EventAction::Emit => {
+                Err(misuse(format!(
+                    "{function}: ball scenes support register_event([], 'remove', 'red floating wall and other balls') \
+                     and register_event([], 'simulate', '')"
+                )))
+            }
+        }
+    }
+
+    /// The outcome of `ball` in `run`.
+    fn record(&self, run: Run<'_>, ball: &SceneObjectInfo) -> Result<PitRecord, ApiError> {
+        match run {
+            Run::Factual => self
+                .annotation
+                .tracking
+                .get(&ball.name)
+                .copied()
+                .ok_or_else(|| {
+                    ApiError::Unavailable(format!(
+                        "happen: the video records no outcome of the {}",
+                        ball.describe()
+                    ))
+                }),
+            Run::Without(wall) => self
+                .annotation
+                .counterfactual(&wall.name, &ball.name)
+                .map(|run| run.record)
+                .ok_or_else(|| {
+                    ApiError::Unavailable(format!(
+                        "happen: this video has no run of the {} without the {}",
+                        ball.describe(),
+                        wall.describe()
+                    ))
+                }),
+        }
+    }
+
+    /// Whether a ball of `material` scores 1 on `property` (see the module docs).
+    fn high(property: Property, material: ElasticityType) -> bool {
+        match property {
+            Property::Plasticity => material == ElasticityType::Plastic,
+            _ => material == ElasticityType::Elastic,
+        }
+    }
+}
+
+impl ScenarioBackend for BallBackend {
+    fn objects(&self) -> &[SceneObjectInfo] {
+        &self.objects
+    }
+
+    fn query(
+        &self,
+        property: Property,
+        objects: &[ObjectId],
+        function: &str,
+    ) -> Result<Vec<Option<f64>>, ApiError> {
+        if !matches!(property, Property::Elasticity | Property::Plasticity) {
+            return Err(misuse(format!(
+                "{function}: property `{}` does not apply to ball scenes; ball scenes have elasticity and plasticity (balls)",
+                property.name()
+            )));
+        }
+        let mut materials = Vec::with_capacity(objects.len());
+        for id in objects {
+            let object = self.info(*id, function)?;
+            let Some(Role::Ball(material)) = self.role(object) else {
+                return Err(misuse(format!(
+                    "{function}: {} is a property of balls, not of the {}",
+                    property.name(),
+                    object.describe()
+                )));
+            };
+            materials.push(material);
+        }
+        let high: Vec<bool> = materials
+            .iter()
+            .map(|material| Self::high(property, *material))
+            .collect();
+        if let ([first, second], [a, b]) = (materials.as_slice(), high.as_slice())
+            && first != second
+            && a == b
+        {
+            // Two materials the release's do not order on this property.
+            return Ok(vec![None, None]);
+        }
+        Ok(high
+            .into_iter()
+            .map(|high| Some(if high { 1.0 } else { 0.0 }))
+            .collect())
+    }
+
+    fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
+        self.event_run(event, "register_event").map(|_| ())
+    }
+
+    fn happen(
+        &self,
+        event: &SceneEvent,
+        object: ObjectId,
+        action: &str,
+        target: &Target,
+    ) -> Result<bool, ApiError> {
+        let subject = self.info(object, "happen")?;
+        match action {
+            "droping" | "dropping" | "drop" | "drops" | "drop into" | "dropping into"
+            | "falling into" => {}
+            "entering" | "passing" | "motion" | "rotation" | "collision" | "falling"
+            | "touching" => {
+                return Err(misuse(format!(
+                    "happen: `{action}` belongs to other scenarios; ball scenes answer 'droping' (into a pit)"
+                )));
+            }
+            _ => {
+                return Err(misuse(format!(
+                    "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (ball: droping)"
+                )));
+            }
+        }
+        if !matches!(self.role(subject), Some(Role::Ball(_))) {
+            return Err(misuse(format!(
+                "happen: only balls drop into pits; ask about a ball, not the {}",
+                subject.describe()
+            )));
+        }
+        let ids = match target {
+            Target::Objects(ids) => ids.clone(),
+            Target::Text(text) if text.trim().is_empty() => {
+                return Err(misuse(
+                    "happen: 'droping' needs the pit, e.g. happen([ball], 'droping', ball_scene.find('left pit'))",
+                ));
+            }
+            Target::Text(text) => self.resolve(text, "happen")?,
+        };
+        let pit = self.one_of_kind(&ids, "pit", "happen", "'droping'")?;
+        let Some(Role::Pit(side)) = self.role(pit) else {
+            return Err(misuse("happen: 'droping' takes a pit"));
+        };
+        let run = self.event_run(event, "happen")?;
+        Ok(self.record(run, subject)?.result.pit() == Some(side))
+    }
+}

@@ -1,0 +1,200 @@
+//! The ball scene on the hand-written video `tests/data/soft_body/0`, whose answers the engine's
+//! tests work out by hand (`dataset/engine/ball/tests.rs`): red Elastic, blue Rigid, green
+//! Plastic; factual: red left (in the video), blue right (after it), green no pit; without the
+//! white wall: red right, blue right, green none; without the black wall: red left, blue right,
+//! green left.
+
+use std::path::{Path, PathBuf};
+
+use super::*;
+use crate::dataset::{VideoFolder, VideoId};
+use crate::scene_api::{Scene, SceneParts};
+
+fn fixture_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/soft_body/0")
+}
+
+fn open(perception: PerceptionBackend, dynamics: DynamicsBackend) -> Scene {
+    let video = VideoFolder {
+        scenario: Scenario::Ball,
+        id: VideoId("0".into()),
+        dir: fixture_dir(),
+    };
+    Scene::open(
+        VideoSpec::new(&video, perception, dynamics),
+        SceneParts {
+            vocabulary: &VOCABULARY,
+            all_vocabularies: &[
+                &crate::dataset::rope::VOCABULARY,
+                &crate::dataset::fluid::VOCABULARY,
+                &crate::dataset::cloth::VOCABULARY,
+                &VOCABULARY,
+            ],
+            backend: Some(load),
+        },
+    )
+}
+
+fn scene() -> Scene {
+    open(PerceptionBackend::Annotation, DynamicsBackend::Annotation)
+}
+
+fn one(scene: &Scene, query: &str) -> ObjectId {
+    let found = scene.find(query).unwrap();
+    assert_eq!(found.len(), 1, "{query}");
+    found[0]
+}
+
+#[test]
+fn objects_are_the_balls_walls_and_pits() {
+    let scene = scene();
+    let all: Vec<String> = scene
+        .objects()
+        .unwrap()
+        .iter()
+        .map(SceneObjectInfo::describe)
+        .collect();
+    assert_eq!(
+        all,
+        [
+            "red ball",
+            "blue ball",
+            "green ball",
+            "white floating wall",
+            "black floating wall",
+            "orange right ramp",
+            "yellow left ramp",
+            "left pit",
+            "right pit"
+        ]
+    );
+    let cases: [(&str, usize); 8] = [
+        ("balls", 3),
+        ("pits", 2),
+        ("the left pit", 1),
+        ("right", 1),
+        ("floating walls", 2),
+        ("ramps", 2),
+        ("left ramp", 1),
+        ("stick", 0),
+    ];
+    for (query, count) in cases {
+        assert_eq!(scene.find(query).unwrap().len(), count, "{query}");
+    }
+    let pit = scene.object(one(&scene, "left pit")).unwrap();
+    assert_eq!(pit.attribute("side"), Some("left"));
+}
+
+#[test]
+fn materials_compare_where_the_release_orders_them() {
+    let scene = scene();
+    let (red, blue, green) = (
+        one(&scene, "red ball"),
+        one(&scene, "blue ball"),
+        one(&scene, "green ball"),
+    );
+    let cases = [
+        ("elasticity", red, blue, (Some(1.0), Some(0.0))),
+        ("elasticity", green, red, (Some(0.0), Some(1.0))),
+        ("elasticity", blue, green, (None, None)),
+        ("plasticity", green, blue, (Some(1.0), Some(0.0))),
+        ("plasticity", red, blue, (None, None)),
+        ("plasticity", red, red, (Some(0.0), Some(0.0))),
+    ];
+    for (property, a, b, expected) in cases {
+        assert_eq!(
+            scene.query_pair(property, a, b).unwrap(),
+            expected,
+            "{property}"
+        );
+    }
+    let error = scene.query_single("density", red).unwrap_err();
+    assert!(
+        error
+            .to_string()
+            .contains("ball scenes have elasticity and plasticity"),
+        "{error}"
+    );
+    let wall = one(&scene, "white floating wall");
+    assert!(scene.query_single("elasticity", wall).is_err());
+}
+
+#[test]
+fn drops_are_read_from_the_run_the_event_starts() {
+    let scene = scene();
+    let factual = scene.register_event(&[], "simulate", "", vec![]).unwrap();
+    let without_white = scene
+        .register_event(&[], "remove", "white floating wall and other balls", vec![])
+        .unwrap();
+    let black = one(&scene, "black floating wall");
+    let without_black = scene
+        .register_event(&[black], "remove", "", vec![])
+        .unwrap();
+    let (left, right) = (one(&scene, "left pit"), one(&scene, "right pit"));
+    let cases = [
+        (&factual, "red ball", left, true),
+        (&factual, "red ball", right, false),
+        (&factual, "blue ball", right, true),
+        (&factual, "green ball", left, false),
+        (&factual, "green ball", right, false),
+        (&without_white, "red ball", right, true),
+        (&without_white, "green ball", left, false),
+        (&without_white, "green ball", right, false),
+        (&without_black, "red ball", left, true),
+        (&without_black, "green ball", left, true),
+        (&without_black, "blue ball", left, false),
+    ];
+    for (event, ball, pit, expected) in cases {
+        let ball_id = one(&scene, ball);
+        let happened = scene
+            .happen(event, &[ball_id], "droping", &Target::Objects(vec![pit]))
+            .unwrap();
+        assert_eq!(happened, expected, "{ball} {event:?}");
+    }
+    // A pit by description; misuse says what is allowed.
+    let red = one(&scene, "red ball");
+    assert!(
+        scene
+            .happen(
+                &factual,
+                &[red],
+                "dropping",
+                &Target::Text("left pit".into())
+            )
+            .unwrap()
+    );
+    let wrong = scene
+        .happen(&factual, &[red], "entering", &Target::Objects(vec![left]))
+        .unwrap_err();
+    assert!(
+        wrong.to_string().contains("ball scenes answer 'droping'"),
+        "{wrong}"
+    );
+    let wall = scene
+        .happen(&factual, &[red], "droping", &Target::Objects(vec![black]))
+        .unwrap_err();
+    assert!(
+        wall.to_string()
+            .contains("takes a pit, not the black floating wall"),
+        "{wall}"
+    );
+    let ball = scene
+        .register_event(&[], "remove", "red ball", vec![])
+        .unwrap_err();
+    assert!(
+        ball.to_string()
+            .contains("takes a floating wall, not the red ball"),
+        "{ball}"
+    );
+}
+
+#[test]
+fn simulate_and_pixels_say_they_are_not_built() {
+    let simulate = open(PerceptionBackend::Annotation, DynamicsBackend::Simulate);
+    let error = simulate.find("ball").unwrap_err();
+    assert!(matches!(error, ApiError::Unavailable(_)), "{error:?}");
+    assert!(
+        error.to_string().contains("--dynamics annotation"),
+        "{error}"
+    );
+}
