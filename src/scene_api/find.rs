@@ -431,8 +431,10 @@ mod tests {
             own: &ball::VOCABULARY,
             all: &ALL,
         };
-        // A ball scene shows ramps but never asks about them; `load` is rope's word only.
-        assert!(parse_object_query("ramp", ball).unwrap().foreign_kind);
+        // Ramps are a ball scene's own objects now (findable by side); plain walls are seen but
+        // never asked about; `load` is rope's word only.
+        assert!(!parse_object_query("left ramp", ball).unwrap().foreign_kind);
+        assert!(parse_object_query("wall", ball).unwrap().foreign_kind);
         assert!(!parse_object_query("red ball", ball).unwrap().foreign_kind);
         assert!(parse_object_query("load", ball).is_err());
         let error = parse_object_query("ball (0 1)", ball)

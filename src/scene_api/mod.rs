@@ -23,7 +23,7 @@ pub mod rope;
 mod scene;
 
 pub use error::ApiError;
-pub(crate) use error::misuse;
+pub(crate) use error::{misuse, named_nothing};
 pub use find::{NameQuery, Words, parse_object_query};
 pub use object::{ObjectAttribute, ObjectId, SceneObjectInfo};
 pub use scene::{

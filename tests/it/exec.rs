@@ -124,6 +124,27 @@ fn naming_an_absent_object_is_misuse_or_a_perception_miss() {
     }
 }
 
+/// The same for an empty list passed where one object is needed (`query_pair` of a fluid
+/// `find` did not find).
+#[test]
+fn an_empty_list_for_one_object_is_misuse_or_a_perception_miss() {
+    let video = demo().join("fluid_slides/0");
+    for (perception, kind) in [("annotation", "misuse"), ("maskrcnn", "not_seen")] {
+        let (code, value, _) = exec_on(
+            &video,
+            "fluid_absent_fluid.py",
+            &["--perception", perception],
+        );
+        assert_eq!(code, Some(1), "{perception}: {value}");
+        assert_eq!(value["error"]["kind"], kind, "{perception}: {value}");
+        let message = value["error"]["message"].as_str().unwrap_or_default();
+        assert!(
+            message.contains("query_pair: `object1` is an empty list: `find` found no such object"),
+            "{perception}: {message}"
+        );
+    }
+}
+
 /// A sandbox worker whose parent dies ends on its own, even though its stdin stays open (a
 /// killed `run` whose worker is inside a long simulation): the shell that starts it exits at
 /// once, leaving it orphaned with a FIFO it holds open both ways as stdin.

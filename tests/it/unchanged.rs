@@ -115,8 +115,8 @@ fn engine_questions_for_several_seeds_are_unchanged() {
             ],
         );
         assert!(output.status.success(), "{}", stderr(&output));
-        // The rope files only: the demo also holds generated fluid videos, whose questions are
-        // fluid's own (their engine has its own tests).
+        // The rope files only: the demo also holds generated fluid and ball videos, whose
+        // questions are their own engines' (with their own tests).
         check(
             &format!("questions --seed {seed}"),
             &tree_hash(
@@ -127,6 +127,11 @@ fn engine_questions_for_several_seeds_are_unchanged() {
                     "fluid_slides_train.json",
                     "fluid_slides_val.json",
                     "fluid_slides_test.json",
+                    "soft_body/0.json",
+                    "soft_body/1.json",
+                    "soft_body_train.json",
+                    "soft_body_val.json",
+                    "soft_body_test.json",
                 ],
             ),
             expected,

@@ -508,6 +508,8 @@ fn extreme_materials_and_speeds_stay_finite_and_bounded() {
         }
         for body in world.bodies() {
             assert_eq!(body.positions().len(), SPHERE_PARTICLES);
+            let mass = body.particle_mass * body.positions().len() as f64;
+            assert!((mass - 1.0).abs() < 1e-12, "{material:?}: mass {mass}");
             for p in body.positions() {
                 assert!(
                     p.iter().all(|v| v.is_finite() && v.abs() < 50.0),

@@ -79,9 +79,9 @@ pub(super) fn one_object(
     let objects = objects_argument(vm, value, function, parameter)?;
     match objects.as_slice() {
         [one] => Ok(*one),
-        [] => Err(misuse(
+        [] => Err(super::empty_list_error(
             vm,
-            &format!("{function}: `{parameter}` is an empty list: `find` found no such object"),
+            format!("{function}: `{parameter}` is an empty list: `find` found no such object"),
         )),
         many => Err(misuse(
             vm,

@@ -22,7 +22,7 @@ use self::classes::{
 };
 use super::{ApiClock, Host, HostConfigError, HostRegistry, HostSpec, InstallContext};
 use crate::scenarios;
-use crate::scene_api::{ApiError, Scene, VideoSpec, WorkCounters};
+use crate::scene_api::{ApiError, PerceptionBackend, Scene, VideoSpec, WorkCounters};
 
 /// The name the scene host is registered under in sandbox workers.
 pub const SCENE_HOST_NAME: &str = "scene";
@@ -216,6 +216,19 @@ pub(super) fn api_error(vm: &VirtualMachine, kind: &str, message: &str) -> PyBas
 
 pub(super) fn misuse(vm: &VirtualMachine, message: &str) -> PyBaseExceptionRef {
     api_error(vm, "misuse", message)
+}
+
+/// The error for an empty list where one object is needed: `find` found nothing. Under
+/// perception from pixels that may be a perception miss (`not_seen`), as the scene's own calls
+/// decide ([`crate::scene_api::named_nothing`]); otherwise it is misuse.
+pub(super) fn empty_list_error(vm: &VirtualMachine, message: String) -> PyBaseExceptionRef {
+    let from_pixels = BINDING.with(|b| {
+        b.borrow()
+            .as_ref()
+            .is_some_and(|b| b.scene.spec().perception != PerceptionBackend::Annotation)
+    });
+    let error = crate::scene_api::named_nothing(message, from_pixels);
+    api_error(vm, error.kind(), &error.to_string())
 }
 
 #[cfg(test)]

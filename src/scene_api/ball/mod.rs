@@ -260,6 +260,12 @@ impl BallBackend {
                 } else {
                     self.resolve(description, function)?
                 };
+                if ids.is_empty() && !plain {
+                    return Err(misuse(format!(
+                        "{function}: `{description}` names no floating wall of this scene; {}",
+                        self.names_of_kind("floating wall")
+                    )));
+                }
                 let wall = self.one_of_kind(&ids, "floating wall", function, "'remove'")?;
                 Ok(Run::Without(wall))
             }

@@ -178,6 +178,18 @@ fn drops_are_read_from_the_run_the_event_starts() {
             .contains("takes a pit, not the black floating wall"),
         "{wall}"
     );
+    let absent = scene
+        .register_event(
+            &[],
+            "remove",
+            "purple floating wall and other balls",
+            vec![],
+        )
+        .unwrap_err();
+    assert_eq!(
+        absent.to_string(),
+        "register_event: `purple floating wall` names no floating wall of this scene; the floating walls are: white floating wall, black floating wall"
+    );
     let ball = scene
         .register_event(&[], "remove", "red ball", vec![])
         .unwrap_err();

@@ -221,7 +221,7 @@ impl FluidBackend {
             }
             (None, Some(named)) => named,
             (None, None) => {
-                return Err(misuse(format!(
+                return Err(self.named_nothing(format!(
                     "{function}: '{action}' needs the {kind} (got none; an empty list from `find` names none), e.g. {usage}"
                 )));
             }

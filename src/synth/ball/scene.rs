@@ -2,7 +2,7 @@
 //! spheres deformed as their particles are, with the release's labels (`Elastic Ball` 1 for the
 //! elastic and the rigid ball, which share a prefab; `Plastic Ball` 2; `Stick` 4 for every
 //! slab), and the 4-D data (`outputs4D.json`: static slabs with voxels, each ball's 91 tracked
-//! particles per frame and its mesh).
+//! particles per frame).
 
 use std::sync::Arc;
 
@@ -171,7 +171,7 @@ impl BallView {
     }
 
     /// `outputs4D.json`: the static slabs (staticity, mesh, centre-line voxels) and each ball's
-    /// tracked particles and mesh per captured frame.
+    /// tracked particles per captured frame.
     pub fn four_d(&self, run: &BallRun) -> Value {
         let round = |v: f64| (v * 1e5).round() / 1e5;
         let mut staticity = Map::new();
@@ -217,10 +217,11 @@ impl BallView {
                 .collect();
             voxels.insert(part.name.clone(), json!(rows));
         }
+        // Each ball's tracked particles per frame. Its mesh is not written (empty per frame, as
+        // for fluids): it follows from the particles' linear fit, and written per frame with its
+        // faces, as the release did, it made a video's 4-D file ten times larger (8 MB).
         let mut tracked = Map::new();
-        let mut mesh_vertices = Map::new();
-        let mut mesh_faces = Map::new();
-        let sphere_faces: Vec<u32> = self.sphere.triangles.iter().flatten().copied().collect();
+        let mut empty_meshes = Map::new();
         for (slot, &index) in run.balls.iter().enumerate() {
             let Some((name, _, _)) = self.balls.get(index) else {
                 continue;
@@ -239,30 +240,8 @@ impl BallView {
                     )
                 })
                 .collect();
-            let meshes: Vec<Value> = run
-                .frames
-                .iter()
-                .filter_map(|states| states.get(slot))
-                .map(|state| {
-                    let pose = Pose {
-                        rotation: state.deformation,
-                        translation: state.centre,
-                    };
-                    json!(
-                        self.sphere
-                            .positions
-                            .iter()
-                            .map(|p| pose.apply(*p).map(round))
-                            .collect::<Vec<_>>()
-                    )
-                })
-                .collect();
             tracked.insert(name.clone(), Value::Array(frames));
-            mesh_vertices.insert(name.clone(), Value::Array(meshes));
-            mesh_faces.insert(
-                name.clone(),
-                json!(vec![sphere_faces.clone(); run.frames.len()]),
-            );
+            empty_meshes.insert(name.clone(), json!(vec![json!([]); run.frames.len()]));
         }
         json!({
             "rigidbody4D": {
@@ -274,8 +253,8 @@ impl BallView {
             },
             "softbody4D": {
                 "softbodyTrackedParticles": tracked,
-                "softbodyMeshVertices": mesh_vertices,
-                "softbodyMeshFaces": mesh_faces,
+                "softbodyMeshVertices": empty_meshes.clone(),
+                "softbodyMeshFaces": empty_meshes,
             },
         })
     }

@@ -5,9 +5,10 @@
 //! without one floating wall and with the ball alone for the others.
 //!
 //! * Predictive questions ask about balls the video does not show dropping (a result "to
-//!   Predict", or no pit): what is seen is not a prediction. The pit is the one the ball drops
-//!   into or the other, a coin flip, so a ball that drops gives "yes" and "no" equally often; a
-//!   ball that drops nowhere gives "no". Options `Yes` and `No`.
+//!   Predict", or no pit): what is seen is not a prediction. A ball that drops later is asked
+//!   about both pits (one "yes", one "no"); a ball that drops nowhere about one pit, with
+//!   probability [`NO_PIT_PROBABILITY`] ("no"). On 100 generated videos a coin flip per ball gave
+//!   29% "yes" (55 of 132 balls drop nowhere); this gives 45%. Options `Yes` and `No`.
 //! * Counterfactual questions have three options, `The left pit`, `The right pit` and
 //!   `Neither pit`, exactly one true, in random order.
 //! * Goal-driven questions offer each floating wall's removal; one is asked only when one
@@ -35,6 +36,9 @@ const NOT_DROP: &str = "not drop";
 const REMOVE: &str = "remove";
 /// The program object of no pit.
 const NO_PIT_PROGRAM: &str = "no pit";
+/// Probability that a ball dropping into no pit gets a predictive question (always "no"), so
+/// that "yes" and "no" come out near even.
+const NO_PIT_PROBABILITY: f64 = 0.3;
 
 fn option(text: String, program: [&str; 3], correct: bool) -> DraftOption {
     DraftOption {
@@ -44,8 +48,8 @@ fn option(text: String, program: [&str; 3], correct: bool) -> DraftOption {
     }
 }
 
-/// `ball_predictive_drop`: "Will the {c} ball finally drop into the {left|right} pit?" for each
-/// ball the video does not show dropping. Question program `[ball, "drop", "left pit"]`; option
+/// `ball_predictive_drop`: "Will the {c} ball finally drop into the {left|right} pit?" about
+/// the balls the video does not show dropping. Question program `[ball, "drop", "left pit"]`; option
 /// programs the same for `Yes`, `[ball, "not drop", "left pit"]` for `No`.
 pub(super) fn predictive_questions(
     scene: &BallScene<'_>,
@@ -57,30 +61,37 @@ pub(super) fn predictive_questions(
         let Some(record) = annotation.tracking.get(ball.reference.name) else {
             continue;
         };
-        let coin = rng.random_bool(0.5);
-        let (side, drops) = match record.result {
+        let asked: Vec<(Pit, bool)> = match record.result {
             PitResult::Observed(_) => continue,
-            PitResult::ToPredict(pit) => {
-                let other = if pit == Pit::Left {
-                    Pit::Right
-                } else {
+            PitResult::ToPredict(pit) => Pit::BOTH
+                .into_iter()
+                .map(|side| (side, side == pit))
+                .collect(),
+            PitResult::NoPit => {
+                if !rng.random_bool(NO_PIT_PROBABILITY) {
+                    continue;
+                }
+                let side = if rng.random_bool(0.5) {
                     Pit::Left
+                } else {
+                    Pit::Right
                 };
-                if coin { (pit, true) } else { (other, false) }
+                vec![(side, false)]
             }
-            PitResult::NoPit => (if coin { Pit::Left } else { Pit::Right }, false),
         };
         let subject = format!("{} ball", ball.reference.word);
-        let pit = format!("{} pit", side.word());
-        records.extend(choice_record(
-            PREDICTIVE_DROP,
-            &fill(PREDICTIVE_DROP_TITLE, &[&ball.reference.word, side.word()]),
-            [&subject, DROP, &pit],
-            &[
-                option(YES.to_string(), [&subject, DROP, &pit], drops),
-                option(NO.to_string(), [&subject, NOT_DROP, &pit], !drops),
-            ],
-        ));
+        for (side, drops) in asked {
+            let pit = format!("{} pit", side.word());
+            records.extend(choice_record(
+                PREDICTIVE_DROP,
+                &fill(PREDICTIVE_DROP_TITLE, &[&ball.reference.word, side.word()]),
+                [&subject, DROP, &pit],
+                &[
+                    option(YES.to_string(), [&subject, DROP, &pit], drops),
+                    option(NO.to_string(), [&subject, NOT_DROP, &pit], !drops),
+                ],
+            ));
+        }
     }
     records
 }
