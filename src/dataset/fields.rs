@@ -295,6 +295,29 @@ pub(crate) fn kind(value: &Value) -> &'static str {
     }
 }
 
+/// Checks that a record's `mode` is `expected` (`FACTUAL_PREDICTIVE`, `COUNTERFACTUAL_`).
+pub(crate) fn expect_mode(node: Node<'_>, expected: &str) -> Result<(), DatasetError> {
+    let mode = node.string()?;
+    if mode == expected {
+        Ok(())
+    } else {
+        Err(node.error(format!("must be `{expected}`, found `{mode}`")))
+    }
+}
+
+/// `outputLight`: each light's Euler angles in degrees, by light object name, in file order.
+pub(crate) fn light_rotations(
+    node: Node<'_>,
+) -> Result<indexmap::IndexMap<String, [f64; 3]>, DatasetError> {
+    Ok(node
+        .entries(|name, light| {
+            let rotation = light.field("rotation", |r| r.numbers(Some(3)))?;
+            Ok((name.to_string(), [rotation[0], rotation[1], rotation[2]]))
+        })?
+        .into_iter()
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -113,6 +113,32 @@ pub trait ScenarioSynth: Sync {
     ) -> Result<SynthesizedVideo, SynthError>;
 }
 
+/// Runs `trial` on the seed's one random stream until it gives a video, at most `max_trials`
+/// times (a trial fails only when its solver does): the video, with the failed attempts in
+/// `rejected_trials`, or the last failure's reason.
+pub(crate) fn first_valid_trial(
+    seed: u64,
+    max_trials: u32,
+    mut trial: impl FnMut(&mut rand_chacha::ChaCha8Rng) -> Result<SynthesizedVideo, String>,
+) -> Result<SynthesizedVideo, SynthError> {
+    let mut rng = crate::util::seeded_rng(seed);
+    let mut last = String::new();
+    for attempt in 0..max_trials {
+        match trial(&mut rng) {
+            Ok(mut video) => {
+                video.rejected_trials = attempt;
+                return Ok(video);
+            }
+            Err(reason) => last = reason,
+        }
+    }
+    Err(SynthError::NoValidScene {
+        seed,
+        attempts: max_trials,
+        last,
+    })
+}
+
 /// What to generate.
 #[derive(Debug, Clone)]
 pub struct GenerateOptions {

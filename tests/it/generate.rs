@@ -318,6 +318,51 @@ fn a_randomised_appearance_changes_the_pixels_only() {
     );
 }
 
+/// Checks, for each of `frames` of `video`, that every annotated box spans exactly the pixels of
+/// its instance's colour in the segmentation frames; returns the names of the boxed objects.
+fn boxes_match_masks(video: &contphy_eval::dataset::VideoFolder, frames: &[usize]) -> Vec<String> {
+    let raw: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
+    let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
+    let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
+    let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
+    let images = segmentation.read(frames).unwrap();
+    let mut boxed = Vec::new();
+    for (frame, image) in frames.iter().zip(&images) {
+        for (id, [x0, y0, width, height]) in boxes(&per_frame[(frame + 1).to_string()]) {
+            let color = &instance_color(id)[..3];
+            let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
+            for y in 0..image.height {
+                for x in 0..image.width {
+                    if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
+                        low_x = low_x.min(x);
+                        low_y = low_y.min(y);
+                        high_x = high_x.max(x);
+                        high_y = high_y.max(y);
+                    }
+                }
+            }
+            let name = names[id.to_string()].as_str().unwrap();
+            assert!(
+                low_x != u32::MAX,
+                "{name} has a box but no mask in frame {frame}"
+            );
+            let mask_box = [low_x, low_y, high_x - low_x + 1, high_y - low_y + 1].map(f64::from);
+            // Whole pixels on both sides: equal means equal.
+            assert!(
+                mask_box
+                    .iter()
+                    .zip([x0, y0, width, height])
+                    .all(|(a, b)| (a - b).abs() < 1e-9),
+                "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
+                [x0, y0, width, height]
+            );
+            boxed.push(name.to_string());
+        }
+    }
+    boxed
+}
+
 /// A short fluid trial (the release's timeline would take minutes in a debug build): 120
 /// updates, 80 captured, later emitters at 50, 80 particles an emitter.
 const SHORT_FLUID: contphy_eval::synth::fluid::FluidSynth =
@@ -367,46 +412,10 @@ fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks()
     let stick_number = &questions.question_dict["stick_number"];
     let sticks = annotation.layout.sticks.len().to_string();
     assert!(stick_number.iter().all(|record| record.answer == sticks));
-    let raw: serde_json::Value =
-        serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
-    let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
-    let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
-    let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
-    let frames = [0_usize, 39];
-    let images = segmentation.read(&frames).unwrap();
-    let mut fluids_seen = 0;
-    for (frame, image) in frames.iter().zip(&images) {
-        for (id, [x0, y0, width, height]) in boxes(&per_frame[(frame + 1).to_string()]) {
-            let color = &instance_color(id)[..3];
-            let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
-            for y in 0..image.height {
-                for x in 0..image.width {
-                    if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
-                        low_x = low_x.min(x);
-                        low_y = low_y.min(y);
-                        high_x = high_x.max(x);
-                        high_y = high_y.max(y);
-                    }
-                }
-            }
-            let name = names[id.to_string()].as_str().unwrap();
-            assert!(
-                low_x != u32::MAX,
-                "{name} has a box but no mask in frame {frame}"
-            );
-            let mask_box = [low_x, low_y, high_x - low_x + 1, high_y - low_y + 1].map(f64::from);
-            // Whole pixels on both sides: equal means equal.
-            assert!(
-                mask_box
-                    .iter()
-                    .zip([x0, y0, width, height])
-                    .all(|(a, b)| (a - b).abs() < 1e-9),
-                "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
-                [x0, y0, width, height]
-            );
-            fluids_seen += usize::from(name.ends_with("Fluid"));
-        }
-    }
+    let fluids_seen = boxes_match_masks(video, &[0, 39])
+        .iter()
+        .filter(|name| name.ends_with("Fluid"))
+        .count();
     assert!(
         fluids_seen >= 3,
         "the fluids are drawn and labelled: {fluids_seen}"
@@ -460,45 +469,10 @@ fn generated_ball_videos_load_ask_questions_and_their_boxes_match_their_masks() 
     let questions = (ENGINE.generate)(video, 0).unwrap();
     assert_eq!(questions.question_dict.len(), ENGINE.families.len());
     assert_eq!(questions.question_dict["elasticity"].len(), 4);
-    let raw: serde_json::Value =
-        serde_json::from_slice(&fs_err::read(video.outputs_json()).unwrap()).unwrap();
-    let per_frame = &raw["imgAnnotationDescriptions"]["perFrameAnnotations"];
-    let names = &raw["imgAnnotationDescriptions"]["Id2ObjectNameDict"];
-    let segmentation = FrameSource::open(&video.dir.join("frames/output_Full_seg")).unwrap();
-    let frames = [0_usize, 60];
-    let images = segmentation.read(&frames).unwrap();
-    let mut balls_seen = 0;
-    for (frame, image) in frames.iter().zip(&images) {
-        for (id, [x0, y0, width, height]) in boxes(&per_frame[(frame + 1).to_string()]) {
-            let color = &instance_color(id)[..3];
-            let (mut low_x, mut low_y, mut high_x, mut high_y) = (u32::MAX, u32::MAX, 0, 0);
-            for y in 0..image.height {
-                for x in 0..image.width {
-                    if image.pixel(x, y).unwrap() == [color[0], color[1], color[2]] {
-                        low_x = low_x.min(x);
-                        low_y = low_y.min(y);
-                        high_x = high_x.max(x);
-                        high_y = high_y.max(y);
-                    }
-                }
-            }
-            let name = names[id.to_string()].as_str().unwrap();
-            assert!(
-                low_x != u32::MAX,
-                "{name} has a box but no mask in frame {frame}"
-            );
-            let mask_box = [low_x, low_y, high_x - low_x + 1, high_y - low_y + 1].map(f64::from);
-            assert!(
-                mask_box
-                    .iter()
-                    .zip([x0, y0, width, height])
-                    .all(|(a, b)| (a - b).abs() < 1e-9),
-                "{name}, frame {frame}: mask spans {mask_box:?}, box {:?}",
-                [x0, y0, width, height]
-            );
-            balls_seen += usize::from(name.ends_with(" Ball"));
-        }
-    }
+    let balls_seen = boxes_match_masks(video, &[0, 60])
+        .iter()
+        .filter(|name| name.ends_with(" Ball"))
+        .count();
     assert!(
         balls_seen >= 4,
         "the balls are drawn and labelled: {balls_seen}"

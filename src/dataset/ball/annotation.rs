@@ -15,7 +15,7 @@ use super::names::{BallObjectKind, parse_ball_object_name};
 use super::outcome::{Pit, PitRecord, PitResult};
 use crate::dataset::DatasetError;
 use crate::dataset::camera::{Camera, parse_camera};
-use crate::dataset::fields::{Node, read_json};
+use crate::dataset::fields::{Node, expect_mode, light_rotations, read_json};
 use crate::dataset::palette::palette_name;
 use crate::dataset::segmentation::parse_image_descriptions;
 
@@ -181,14 +181,7 @@ impl BallAnnotation {
         })?;
         let layout = root.field("metaSamplingData", parse_layout)?;
         let camera = root.field("outputCamera", parse_camera)?;
-        let light_rotation_deg = root.field("outputLight", |n| {
-            Ok(n.entries(|name, light| {
-                let rotation = light.field("rotation", |r| r.numbers(Some(3)))?;
-                Ok((name.to_string(), [rotation[0], rotation[1], rotation[2]]))
-            })?
-            .into_iter()
-            .collect())
-        })?;
+        let light_rotation_deg = root.field("outputLight", light_rotations)?;
         let counterfactuals = root.field("CounterFactualAnnotations", |n| {
             n.entries(parse_counterfactual)
         })?;
@@ -219,15 +212,6 @@ impl BallAnnotation {
         self.counterfactuals
             .iter()
             .find(|run| run.removed_wall == wall && run.ball == ball)
-    }
-}
-
-fn expect_mode(node: Node<'_>, expected: &str) -> Result<(), DatasetError> {
-    let mode = node.string()?;
-    if mode == expected {
-        Ok(())
-    } else {
-        Err(node.error(format!("must be `{expected}`, found `{mode}`")))
     }
 }
 

@@ -26,7 +26,7 @@ use super::names::{
 use super::outcome::{DensityOrdering, Receptor, Rect};
 use crate::dataset::DatasetError;
 use crate::dataset::camera::{Camera, parse_camera};
-use crate::dataset::fields::{Node, read_json};
+use crate::dataset::fields::{Node, expect_mode, light_rotations, read_json};
 use crate::dataset::segmentation::parse_image_descriptions;
 
 /// `mode` of a factual record.
@@ -339,14 +339,7 @@ impl FluidAnnotation {
             )
         })?;
         let camera = root.field("outputCamera", parse_camera)?;
-        let light_rotation_deg = root.field("outputLight", |n| {
-            Ok(n.entries(|name, light| {
-                let rotation = light.field("rotation", |r| r.numbers(Some(3)))?;
-                Ok((name.to_string(), [rotation[0], rotation[1], rotation[2]]))
-            })?
-            .into_iter()
-            .collect())
-        })?;
+        let light_rotation_deg = root.field("outputLight", light_rotations)?;
         let counterfactuals = root.field("CounterFactualAnnotations", |n| {
             n.entries(parse_counterfactual)
         })?;
@@ -370,15 +363,6 @@ impl FluidAnnotation {
         self.counterfactuals
             .iter()
             .find(|run| run.removed_stick == stick)
-    }
-}
-
-fn expect_mode(node: Node<'_>, expected: &str) -> Result<(), DatasetError> {
-    let mode = node.string()?;
-    if mode == expected {
-        Ok(())
-    } else {
-        Err(node.error(format!("must be `{expected}`, found `{mode}`")))
     }
 }
 

@@ -9,7 +9,7 @@
 //! | `If we removed the W floating wall and other balls, which pit would the C ball drop into?` \| `The left pit` / `Neither pit` | `remove` W; C ball `droping` into that pit, or into neither |
 //! | `What can we do to make the C ball drop into the left pit?` \| `Remove the W floating wall and other balls` | `remove` W; C ball `droping` into the pit |
 
-use super::{Writer, WriterError, literal, object_phrase, unrecognised};
+use super::{Writer, WriterError, between, literal, object_phrase, unrecognised, with_kind};
 
 /// The ball writer.
 pub const WRITER: Writer = Writer {
@@ -17,24 +17,6 @@ pub const WRITER: Writer = Writer {
     open_body: open_ended_body,
     option_body: choice_body,
 };
-
-/// `text` between `prefix` and `suffix`, trimmed, not empty.
-fn between<'a>(text: &'a str, prefix: &str, suffix: &str) -> Option<&'a str> {
-    text.strip_prefix(prefix)?
-        .strip_suffix(suffix)
-        .map(str::trim)
-        .filter(|inside| !inside.is_empty())
-}
-
-/// A phrase with its kind word (`pink` → `pink ball`).
-fn with_kind(phrase: &str, kind: &str) -> String {
-    let phrase = object_phrase(phrase);
-    if phrase.ends_with(kind) {
-        phrase.to_string()
-    } else {
-        format!("{phrase} {kind}")
-    }
-}
 
 /// The body for an open ball question: a material comparison.
 fn open_ended_body(title: &str) -> Result<String, WriterError> {

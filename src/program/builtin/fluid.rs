@@ -12,7 +12,7 @@
 //! | `If the S stick were removed, which container would C fluid flow into?` \| `Gray container` | the same, `entering` the container |
 //! | `What can we do to let most of the C fluid enter the K container?` \| `Remove the S stick` | `remove` S stick; C fluid `entering most` K container |
 
-use super::{Writer, WriterError, literal, object_phrase, unrecognised};
+use super::{Writer, WriterError, between, literal, object_phrase, unrecognised, with_kind};
 
 /// The fluid writer.
 pub const WRITER: Writer = Writer {
@@ -105,24 +105,6 @@ enum ChoiceQuestion {
     },
     /// "What can we do to let most of the {fluid} enter the {container}?"
     GoalDriven { fluid: String, container: String },
-}
-
-/// `text` between `prefix` and `suffix`, trimmed.
-fn between<'a>(text: &'a str, prefix: &str, suffix: &str) -> Option<&'a str> {
-    text.strip_prefix(prefix)?
-        .strip_suffix(suffix)
-        .map(str::trim)
-        .filter(|inside| !inside.is_empty())
-}
-
-/// A fluid phrase with its kind word (`pink` → `pink fluid`).
-fn with_kind(phrase: &str, kind: &str) -> String {
-    let phrase = object_phrase(phrase);
-    if phrase.ends_with(kind) {
-        phrase.to_string()
-    } else {
-        format!("{phrase} {kind}")
-    }
 }
 
 impl ChoiceQuestion {

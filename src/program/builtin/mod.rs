@@ -149,3 +149,22 @@ pub(crate) fn object_phrase(text: &str) -> &str {
     let text = text.trim();
     text.strip_prefix("the ").unwrap_or(text).trim()
 }
+
+/// `text` between `prefix` and `suffix`, trimmed; `None` when it does not have them or nothing
+/// is between them.
+pub(crate) fn between<'a>(text: &'a str, prefix: &str, suffix: &str) -> Option<&'a str> {
+    text.strip_prefix(prefix)?
+        .strip_suffix(suffix)
+        .map(str::trim)
+        .filter(|inside| !inside.is_empty())
+}
+
+/// An object phrase with its kind word (`pink` → `pink fluid`; `pink fluid` stays).
+pub(crate) fn with_kind(phrase: &str, kind: &str) -> String {
+    let phrase = object_phrase(phrase);
+    if phrase.ends_with(kind) {
+        phrase.to_string()
+    } else {
+        format!("{phrase} {kind}")
+    }
+}

@@ -25,11 +25,10 @@ use super::camera::truncated_normal;
 use super::raster::Light;
 use super::shadow::RELEASE_SHADOW;
 use super::unity::{camera_json, round, vector3};
-use super::{ScenarioSynth, SynthError, SynthesizedVideo};
+use super::{ScenarioSynth, SynthError, SynthesizedVideo, first_valid_trial};
 use crate::dataset::Scenario;
 use crate::dataset::ball::outcome::PitRecord;
 use crate::perception::camera::CameraModel;
-use crate::util::seeded_rng;
 
 /// Trials before giving up on a seed (a trial fails only when the solver does).
 const MAX_TRIALS: u32 = 20;
@@ -58,22 +57,7 @@ impl ScenarioSynth for BallSynth {
         width: u32,
         height: u32,
     ) -> Result<SynthesizedVideo, SynthError> {
-        let mut rng = seeded_rng(seed);
-        let mut last = String::new();
-        for attempt in 0..MAX_TRIALS {
-            match trial(&mut rng, width, height) {
-                Ok(mut video) => {
-                    video.rejected_trials = attempt;
-                    return Ok(video);
-                }
-                Err(reason) => last = reason,
-            }
-        }
-        Err(SynthError::NoValidScene {
-            seed,
-            attempts: MAX_TRIALS,
-            last,
-        })
+        first_valid_trial(seed, MAX_TRIALS, |rng| trial(rng, width, height))
     }
 }
 

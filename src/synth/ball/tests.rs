@@ -65,35 +65,3 @@ fn a_seed_gives_the_same_video() {
     let c = BALL_SYNTH.synthesize(4, 64, 36).unwrap();
     assert_ne!(outputs_json(&a), outputs_json(&c));
 }
-
-#[test]
-#[ignore = "diagnostic"]
-fn print_outcomes() {
-    let mut counts = std::collections::BTreeMap::new();
-    let mut updates = 0;
-    for seed in 0..40 {
-        let mut rng = seeded_rng(seed);
-        let layout = sample_layout(&mut rng).unwrap();
-        let factual = run(&layout, RunKind::Factual).unwrap();
-        updates += factual.updates;
-        for (i, r) in factual.records.iter().enumerate() {
-            let kind = layout.balls[factual.balls[i]].elasticity.as_str();
-            *counts
-                .entry(format!("F {kind} {}", r.result.as_str()))
-                .or_insert(0) += 1;
-        }
-        for wall in 0..2 {
-            for ball in 0..3 {
-                let alone = run(&layout, RunKind::Counterfactual { wall, ball }).unwrap();
-                updates += alone.updates;
-                *counts
-                    .entry(format!("CF {}", alone.records[0].result.as_str()))
-                    .or_insert(0) += 1;
-            }
-        }
-    }
-    for (k, v) in counts {
-        println!("{k}: {v}");
-    }
-    println!("updates {updates}");
-}
