@@ -139,6 +139,72 @@ pub(crate) fn first_valid_trial(
     })
 }
 
+/// A static part of a generated scene as `outputs4D.json` records it: its name, its mesh in world
+/// coordinates, and the end points of its centre line (x–y, units; the voxels lie along it).
+pub(crate) struct StaticPart<'a> {
+    /// Scene name.
+    pub(crate) name: &'a str,
+    /// The mesh, placed.
+    pub(crate) mesh: Mesh,
+    /// Centre line end points, units.
+    pub(crate) line: ([f64; 2], [f64; 2]),
+}
+
+/// `outputs4D.json`'s `rigidbody4D` for static parts (`docs/data/common.md`): staticity, no
+/// per-frame states, the first capture's mesh, and voxel rows (position, Euler angles, then
+/// voxel centres every `voxel_size` units along the centre line).
+pub(crate) fn static_rigid_bodies(parts: &[StaticPart<'_>], voxel_size: f64) -> Value {
+    let round = |v: f64| (v * 1e5).round() / 1e5;
+    let mut staticity = Map::new();
+    let mut centroids = Map::new();
+    let mut vertices = Map::new();
+    let mut faces = Map::new();
+    let mut voxels = Map::new();
+    for part in parts {
+        let name = part.name.to_string();
+        staticity.insert(name.clone(), serde_json::json!(true));
+        centroids.insert(name.clone(), serde_json::json!([]));
+        let positions: Vec<[f64; 3]> = part.mesh.positions.iter().map(|p| p.map(round)).collect();
+        vertices.insert(name.clone(), serde_json::json!(positions));
+        let flat: Vec<u32> = part.mesh.triangles.iter().flatten().copied().collect();
+        faces.insert(name.clone(), serde_json::json!(flat));
+        let (a, b) = part.line;
+        let angle = (b[1] - a[1])
+            .atan2(b[0] - a[0])
+            .to_degrees()
+            .rem_euclid(360.0);
+        let centre = [f64::midpoint(a[0], b[0]), f64::midpoint(a[1], b[1]), 0.0];
+        let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "a part's length over the voxel size is a small count"
+        )]
+        let count = (length / voxel_size).ceil().max(1.0) as usize;
+        let mut rows = vec![
+            serde_json::json!(centre.map(round)),
+            serde_json::json!([0.0, 0.0, round(angle)]),
+        ];
+        #[expect(clippy::cast_precision_loss, reason = "small counts")]
+        rows.extend((0..count).map(|k| {
+            let t = (k as f64 + 0.5) / count as f64;
+            serde_json::json!([
+                round(a[0] + t * (b[0] - a[0])),
+                round(a[1] + t * (b[1] - a[1])),
+                0.0
+            ])
+        }));
+        voxels.insert(name, serde_json::json!(rows));
+    }
+    serde_json::json!({
+        "rigidbodyStatesStaticity": staticity,
+        "rigidbodyCentroidStates": centroids,
+        "rigidbodyMeshVertices": vertices,
+        "rigidbodyMeshFaces": faces,
+        "rigidbodyVoxelPosition": voxels,
+    })
+}
+
 /// What to generate.
 #[derive(Debug, Clone)]
 pub struct GenerateOptions {

@@ -469,6 +469,19 @@ fn generated_ball_videos_load_ask_questions_and_their_boxes_match_their_masks() 
     let questions = (ENGINE.generate)(video, 0).unwrap();
     assert_eq!(questions.question_dict.len(), ENGINE.families.len());
     assert_eq!(questions.question_dict["elasticity"].len(), 4);
+    // The 4-D data reads back: static slabs with their first pose and voxels, 91 tracked
+    // particles a ball in each of the 120 frames.
+    let four_d = FourDData::load(&video.dir.join("outputs4D.json")).unwrap();
+    assert_eq!(four_d.frame_count(), 120);
+    assert_eq!(four_d.rigid_bodies.len(), 7);
+    for (name, slab) in &four_d.rigid_bodies {
+        assert!(slab.is_static && slab.first_pose.is_some(), "{name}");
+        assert!(!slab.voxels.is_empty(), "{name}");
+    }
+    for ball in &annotation.layout.balls {
+        let track = &four_d.soft_bodies[&ball.name];
+        assert!(track.particles.iter().all(|frame| frame.len() == 91));
+    }
     let balls_seen = boxes_match_masks(video, &[0, 60])
         .iter()
         .filter(|name| name.ends_with(" Ball"))

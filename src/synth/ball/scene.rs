@@ -11,10 +11,10 @@ use serde_json::{Map, Value, json};
 use super::layout::{BALL_RADIUS, Layout, SLAB_DEPTH, SlabLayout};
 use super::simulate::BallRun;
 use crate::dataset::ball::ElasticityType;
-use crate::synth::Item;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
+use crate::synth::{Item, StaticPart, static_rigid_bodies};
 
 /// A ball's mesh: 24 segments, 16 rings (768 triangles, as the release's ball mesh).
 const SPHERE: (u32, u32) = (24, 16);
@@ -174,49 +174,15 @@ impl BallView {
     /// tracked particles per captured frame.
     pub fn four_d(&self, run: &BallRun) -> Value {
         let round = |v: f64| (v * 1e5).round() / 1e5;
-        let mut staticity = Map::new();
-        let mut centroids = Map::new();
-        let mut vertices = Map::new();
-        let mut faces = Map::new();
-        let mut voxels = Map::new();
-        for part in &self.parts {
-            let mesh = part.mesh.transformed(&part.pose);
-            staticity.insert(part.name.clone(), json!(true));
-            centroids.insert(part.name.clone(), json!([]));
-            vertices.insert(
-                part.name.clone(),
-                json!(
-                    mesh.positions
-                        .iter()
-                        .map(|p| p.map(round))
-                        .collect::<Vec<_>>()
-                ),
-            );
-            faces.insert(
-                part.name.clone(),
-                json!(mesh.triangles.iter().flatten().collect::<Vec<_>>()),
-            );
-            let (a, b) = part.line;
-            let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-            #[expect(
-                clippy::cast_possible_truncation,
-                clippy::cast_sign_loss,
-                reason = "a slab's length over the voxel size is a small count"
-            )]
-            let count = (length / VOXEL).ceil().max(1.0) as usize;
-            #[expect(clippy::cast_precision_loss, reason = "small counts")]
-            let rows: Vec<Value> = (0..count)
-                .map(|k| {
-                    let t = (k as f64 + 0.5) / count as f64;
-                    json!([
-                        round(a[0] + t * (b[0] - a[0])),
-                        round(a[1] + t * (b[1] - a[1])),
-                        0.0
-                    ])
-                })
-                .collect();
-            voxels.insert(part.name.clone(), json!(rows));
-        }
+        let parts: Vec<StaticPart<'_>> = self
+            .parts
+            .iter()
+            .map(|part| StaticPart {
+                name: &part.name,
+                mesh: part.mesh.transformed(&part.pose),
+                line: part.line,
+            })
+            .collect();
         // Each ball's tracked particles per frame. Its mesh is not written (empty per frame, as
         // for fluids): it follows from the particles' linear fit, and written per frame with its
         // faces, as the release did, it made a video's 4-D file ten times larger (8 MB).
@@ -244,13 +210,7 @@ impl BallView {
             empty_meshes.insert(name.clone(), json!(vec![json!([]); run.frames.len()]));
         }
         json!({
-            "rigidbody4D": {
-                "rigidbodyStatesStaticity": staticity,
-                "rigidbodyCentroidStates": centroids,
-                "rigidbodyMeshVertices": vertices,
-                "rigidbodyMeshFaces": faces,
-                "rigidbodyVoxelPosition": voxels,
-            },
+            "rigidbody4D": static_rigid_bodies(&parts, VOXEL),
             "softbody4D": {
                 "softbodyTrackedParticles": tracked,
                 "softbodyMeshVertices": empty_meshes.clone(),

@@ -15,10 +15,10 @@ use serde_json::{Map, Value, json};
 use super::layout::{EMITTER_WIDTH, Layout};
 use super::simulate::{FluidRun, FluidScene};
 use crate::physics::fluid::FluidParameters;
-use crate::synth::Item;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
+use crate::synth::{Item, StaticPart, static_rigid_bodies};
 
 /// Depth (z extent) of every box, units (`receptor_scale_z`).
 const DEPTH: f64 = 0.2;
@@ -26,6 +26,8 @@ const DEPTH: f64 = 0.2;
 const WALL_COLOR: [f64; 3] = [0.78, 0.78, 0.76];
 /// Disc radius round each particle of a fluid surface, in particle spacings.
 const SURFACE_RADIUS_SPACINGS: f64 = 1.0;
+/// Voxel spacing along a part's centre line in the 4-D data, units (the release: 0.07).
+const VOXEL: f64 = 0.07;
 /// Tracked particles: every 15th of an emitter's (`interval_particle_sample_output`).
 const TRACKED_EVERY: usize = 15;
 
@@ -230,53 +232,15 @@ impl FluidView {
     /// voxels) and each fluid key's tracked particles per frame.
     pub fn four_d(&self, run: &FluidRun) -> Value {
         let round = |v: f64| (v * 1e5).round() / 1e5;
-        let mut staticity = Map::new();
-        let mut centroids = Map::new();
-        let mut vertices = Map::new();
-        let mut faces = Map::new();
-        let mut voxels = Map::new();
-        for part in &self.parts {
-            let mesh = part.mesh.transformed(&part.pose);
-            staticity.insert(part.name.clone(), json!(true));
-            centroids.insert(part.name.clone(), json!([]));
-            vertices.insert(
-                part.name.clone(),
-                json!(
-                    mesh.positions
-                        .iter()
-                        .map(|p| p.map(round))
-                        .collect::<Vec<_>>()
-                ),
-            );
-            faces.insert(
-                part.name.clone(),
-                json!(mesh.triangles.iter().flatten().collect::<Vec<_>>()),
-            );
-            let (a, b) = part.line;
-            let angle = (b[1] - a[1])
-                .atan2(b[0] - a[0])
-                .to_degrees()
-                .rem_euclid(360.0);
-            let centre = [f64::midpoint(a[0], b[0]), f64::midpoint(a[1], b[1]), 0.0];
-            let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-            #[expect(
-                clippy::cast_possible_truncation,
-                clippy::cast_sign_loss,
-                reason = "a part's length over the voxel size is a small count"
-            )]
-            let count = (length / 0.07).ceil().max(1.0) as usize;
-            let mut rows = vec![json!(centre.map(round)), json!([0.0, 0.0, round(angle)])];
-            #[expect(clippy::cast_precision_loss, reason = "small counts")]
-            rows.extend((0..count).map(|k| {
-                let t = (k as f64 + 0.5) / count as f64;
-                json!([
-                    round(a[0] + t * (b[0] - a[0])),
-                    round(a[1] + t * (b[1] - a[1])),
-                    0.0
-                ])
-            }));
-            voxels.insert(part.name.clone(), json!(rows));
-        }
+        let parts: Vec<StaticPart<'_>> = self
+            .parts
+            .iter()
+            .map(|part| StaticPart {
+                name: &part.name,
+                mesh: part.mesh.transformed(&part.pose),
+                line: part.line,
+            })
+            .collect();
         let mut tracked = Map::new();
         let mut empty_meshes = Map::new();
         for (key, (name, _, _)) in self.fluids.iter().enumerate() {
@@ -304,13 +268,7 @@ impl FluidView {
             empty_meshes.insert(name.clone(), json!(vec![json!([]); run.frames.len()]));
         }
         json!({
-            "rigidbody4D": {
-                "rigidbodyStatesStaticity": staticity,
-                "rigidbodyCentroidStates": centroids,
-                "rigidbodyMeshVertices": vertices,
-                "rigidbodyMeshFaces": faces,
-                "rigidbodyVoxelPosition": voxels,
-            },
+            "rigidbody4D": static_rigid_bodies(&parts, VOXEL),
             "softbody4D": {
                 "softbodyTrackedParticles": tracked,
                 "softbodyMeshVertices": empty_meshes.clone(),
