@@ -15,6 +15,8 @@
 //! `perception`.
 //!
 //! * [`rope`]: rope–pulley scenes (`docs/data/rope.md`).
+//! * [`fluid`]: fluids on sticks into containers (`docs/data/fluid.md`).
+//! * [`ball`]: soft balls dropping past floating walls into pits (`docs/data/ball.md`).
 
 pub mod annotate;
 pub mod appearance;

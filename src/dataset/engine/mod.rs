@@ -7,8 +7,7 @@
 //! (`engine/<scenario>/`); the scenario table (`scenarios`) names each scenario's engine.
 //!
 //! Only the rope engine is public (`rope`, a re-implementation of the release's
-//! `question_engine_pulley.py`); the others follow the paper's templates as their issues land
-//! (`fluid`, issue 13).
+//! `question_engine_pulley.py`); the others follow the paper's templates (`fluid`, `ball`).
 //! Randomness comes from seeded ChaCha8 streams derived from the seed, the scenario and the video
 //! id, so the same inputs give byte-identical files. This module depends only on `dataset` types
 //! and `util`.
