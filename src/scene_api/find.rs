@@ -7,7 +7,7 @@
 //! never asks about, are understood and find nothing.
 
 use super::error::{ApiError, misuse};
-use super::object::SceneObjectInfo;
+use super::object::{ObjectId, SceneObjectInfo};
 use crate::dataset::Vocabulary;
 use crate::perception::palette::color_words;
 
@@ -77,7 +77,7 @@ impl NameQuery {
         &self,
         objects: &[SceneObjectInfo],
         vocabulary: &Vocabulary,
-    ) -> Option<super::object::ObjectId> {
+    ) -> Option<ObjectId> {
         objects
             .iter()
             .filter_map(|object| Some((self.second_choice(object, vocabulary)?, object.id)))
@@ -126,6 +126,37 @@ impl Words<'_> {
         }
         word.to_string()
     }
+}
+
+/// A description an API call names objects by (`register_event`'s attribute, `happen`'s
+/// target), read with `find`'s words in `scenario`'s vocabulary alone: the query and the objects
+/// of `objects` it matches. A description it cannot read is misuse, named after `function`.
+pub(crate) fn resolve_description(
+    objects: &[SceneObjectInfo],
+    scenario: &'static str,
+    vocabulary: &'static Vocabulary,
+    description: &str,
+    function: &str,
+) -> Result<(NameQuery, Vec<ObjectId>), ApiError> {
+    let own = [vocabulary];
+    let words = Words {
+        scenario,
+        own: vocabulary,
+        all: &own,
+    };
+    let query = parse_object_query(description, words).map_err(|error| {
+        let reason = error.to_string();
+        misuse(format!(
+            "{function}: cannot read `{description}`: {}",
+            reason.strip_prefix("find: ").unwrap_or(&reason)
+        ))
+    })?;
+    let found = objects
+        .iter()
+        .filter(|object| query.matches(object, vocabulary))
+        .map(|object| object.id)
+        .collect();
+    Ok((query, found))
 }
 
 /// Parses an object name with the scene's `words`.

@@ -24,6 +24,7 @@ mod scene;
 
 pub use error::ApiError;
 pub(crate) use error::{misuse, named_nothing};
+pub(crate) use find::resolve_description;
 pub use find::{NameQuery, Words, parse_object_query};
 pub use object::{ObjectAttribute, ObjectId, SceneObjectInfo};
 pub use scene::{

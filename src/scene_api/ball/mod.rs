@@ -31,10 +31,9 @@ use crate::dataset::Scenario;
 use crate::dataset::ball::names::parse_ball_object_name;
 use crate::dataset::ball::outcome::{Pit, PitRecord};
 use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
-use crate::dataset::vocabulary::Vocabulary;
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
-    SceneEvent, SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
 };
 
 /// The vocabulary attribute that tells the pits apart.
@@ -179,25 +178,14 @@ impl BallBackend {
 
     /// The objects a description names, in `find`'s words.
     fn resolve(&self, description: &str, function: &str) -> Result<Vec<ObjectId>, ApiError> {
-        const OWN: [&Vocabulary; 1] = [&VOCABULARY];
-        let words = Words {
-            scenario: Scenario::Ball.name(),
-            own: &VOCABULARY,
-            all: &OWN,
-        };
-        let query = parse_object_query(description, words).map_err(|error| {
-            let reason = error.to_string();
-            misuse(format!(
-                "{function}: cannot read `{description}`: {}",
-                reason.strip_prefix("find: ").unwrap_or(&reason)
-            ))
-        })?;
-        Ok(self
-            .objects
-            .iter()
-            .filter(|object| query.matches(object, &VOCABULARY))
-            .map(|object| object.id)
-            .collect())
+        let (_, found) = resolve_description(
+            &self.objects,
+            Scenario::Ball.name(),
+            &VOCABULARY,
+            description,
+            function,
+        )?;
+        Ok(found)
     }
 
     /// The short names of the scene's objects of `kind`, for messages.

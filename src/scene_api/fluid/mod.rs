@@ -65,13 +65,12 @@ use crate::dataset::fluid::{
     FluidAnnotation, FluidLayout, VOCABULARY, Viscosity, emitter_name, later_fluid_name,
     parse_fluid_object_name,
 };
-use crate::dataset::vocabulary::Vocabulary;
 use crate::dataset::{FourDData, Scenario};
 use crate::perception::fluid::PERCEPTION;
 use crate::scene_api::perceiver::Perceiver;
 use crate::scene_api::{
     ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
-    SceneObjectInfo, Target, VideoSpec, Words, misuse, parse_object_query,
+    SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
 };
 
 /// The vocabulary attribute that tells a fluid's emitters apart.
@@ -352,25 +351,13 @@ impl FluidBackend {
     /// The objects a description names (`find`'s words, in this scene's vocabulary, with its
     /// fall-back on second-choice colours).
     fn resolve(&self, description: &str, function: &str) -> Result<Vec<ObjectId>, ApiError> {
-        const OWN: [&Vocabulary; 1] = [&VOCABULARY];
-        let words = Words {
-            scenario: Scenario::Fluid.name(),
-            own: &VOCABULARY,
-            all: &OWN,
-        };
-        let query = parse_object_query(description, words).map_err(|error| {
-            let reason = error.to_string();
-            misuse(format!(
-                "{function}: cannot read `{description}`: {}",
-                reason.strip_prefix("find: ").unwrap_or(&reason)
-            ))
-        })?;
-        let found: Vec<ObjectId> = self
-            .objects
-            .iter()
-            .filter(|object| query.matches(object, &VOCABULARY))
-            .map(|object| object.id)
-            .collect();
+        let (query, found) = resolve_description(
+            &self.objects,
+            Scenario::Fluid.name(),
+            &VOCABULARY,
+            description,
+            function,
+        )?;
         if !found.is_empty() {
             return Ok(found);
         }
