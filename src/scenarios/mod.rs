@@ -120,6 +120,7 @@ static TABLE: [ScenarioParts; 4] = [
         synth: Some(&synth::ball::BALL_SYNTH),
         writer: Some(&builtin::ball::WRITER),
         scene: Some(scene_api::ball::load),
+        inference_bench: Some(scene_api::ball::infer::inference_report),
         ..ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY)
     },
 ];

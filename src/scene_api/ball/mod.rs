@@ -24,6 +24,7 @@
 //! * `happen([ball], 'droping', [pit])`: the run's `pitResult` for the ball names that pit
 //!   (observed in the video or after it).
 
+pub mod infer;
 #[cfg(test)]
 mod tests;
 
