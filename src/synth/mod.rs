@@ -152,10 +152,44 @@ pub(crate) struct StaticPart<'a> {
     pub(crate) line: ([f64; 2], [f64; 2]),
 }
 
-/// `outputs4D.json`'s `rigidbody4D` for static parts (`docs/data/common.md`): staticity, no
-/// per-frame states, the first capture's mesh, and voxel rows (position, Euler angles, then
-/// voxel centres every `voxel_size` units along the centre line).
-pub(crate) fn static_rigid_bodies(parts: &[StaticPart<'_>], voxel_size: f64) -> Value {
+/// `outputs4D.json` for a scene of static parts and soft bodies (`docs/data/common.md`). Each
+/// static part: staticity, no per-frame states, the first capture's mesh, and voxel rows
+/// (position, Euler angles, then voxel centres every `voxel_size` units along the centre line).
+/// Each soft body (name, tracked points per frame): its points, rounded, and an empty mesh per
+/// frame (the meshes follow from the points; written per frame with their faces they made a
+/// ball video's 4-D file ten times larger).
+pub(crate) fn four_d_document(
+    parts: &[StaticPart<'_>],
+    voxel_size: f64,
+    soft_bodies: Vec<(String, Vec<Vec<[f64; 3]>>)>,
+) -> Value {
+    let round = |v: f64| (v * 1e5).round() / 1e5;
+    let mut tracked = Map::new();
+    let mut empty_meshes = Map::new();
+    for (name, frames) in soft_bodies {
+        let count = frames.len();
+        let frames: Vec<Value> = frames
+            .into_iter()
+            .map(|points| {
+                let points: Vec<[f64; 3]> = points.iter().map(|p| p.map(round)).collect();
+                serde_json::json!(points)
+            })
+            .collect();
+        tracked.insert(name.clone(), Value::Array(frames));
+        empty_meshes.insert(name, serde_json::json!(vec![serde_json::json!([]); count]));
+    }
+    serde_json::json!({
+        "rigidbody4D": static_rigid_bodies(parts, voxel_size),
+        "softbody4D": {
+            "softbodyTrackedParticles": tracked,
+            "softbodyMeshVertices": empty_meshes.clone(),
+            "softbodyMeshFaces": empty_meshes,
+        },
+    })
+}
+
+/// The `rigidbody4D` part of [`four_d_document`].
+fn static_rigid_bodies(parts: &[StaticPart<'_>], voxel_size: f64) -> Value {
     let round = |v: f64| (v * 1e5).round() / 1e5;
     let mut staticity = Map::new();
     let mut centroids = Map::new();

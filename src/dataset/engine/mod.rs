@@ -36,3 +36,34 @@ pub struct QuestionEngine {
     /// other scenarios 1 property + 2 dynamics).
     pub per_video: SamplerConfig,
 }
+
+/// An object an engine can ask about.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Reference<'a> {
+    /// Its annotation name (`Light Blue Fluid`).
+    pub(crate) name: &'a str,
+    /// Its colour as questions write it (`light blue`).
+    pub(crate) word: String,
+}
+
+/// The objects of `names` with their colour words (`color_word` of a name; names it cannot read
+/// are left out), leaving out every object whose colour word another of them shares: questions
+/// name objects by colour alone, so no phrase would tell those apart.
+pub(crate) fn colour_references<'a>(
+    names: impl Iterator<Item = &'a str>,
+    color_word: impl Fn(&str) -> Option<String>,
+) -> Vec<Reference<'a>> {
+    let named: Vec<Reference<'a>> = names
+        .filter_map(|name| {
+            Some(Reference {
+                name,
+                word: color_word(name)?,
+            })
+        })
+        .collect();
+    named
+        .iter()
+        .filter(|reference| named.iter().filter(|o| o.word == reference.word).count() == 1)
+        .cloned()
+        .collect()
+}

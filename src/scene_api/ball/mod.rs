@@ -67,8 +67,8 @@ enum Role {
     Ball(ElasticityType),
     /// A floating wall.
     Wall,
-    /// A ramp, on this side.
-    Ramp,
+    /// A ramp, on the side of this pit.
+    Ramp(Pit),
     /// A pit.
     Pit(Pit),
 }
@@ -93,8 +93,6 @@ impl BallBackend {
     /// The backend of `annotation`.
     pub(crate) fn new(annotation: BallAnnotation) -> BallBackend {
         let mut named: Vec<(String, String, Role)> = Vec::new();
-        // The side of each ramp, by its index in `named`.
-        let mut sides: Vec<(usize, Pit)> = Vec::new();
         let color_of = |name: &str| parse_ball_object_name(name).and_then(|parsed| parsed.color);
         for ball in &annotation.layout.balls {
             if let Some(color) = color_of(&ball.name) {
@@ -118,8 +116,7 @@ impl BallBackend {
                 Pit::Right
             };
             if let Some(color) = color {
-                named.push((ramp.name.clone(), color.to_string(), Role::Ramp));
-                sides.push((named.len() - 1, side));
+                named.push((ramp.name.clone(), color.to_string(), Role::Ramp(side)));
             }
         }
         for pit in Pit::BOTH {
@@ -137,13 +134,7 @@ impl BallBackend {
                 let (kind, attributes) = match role {
                     Role::Ball(_) => ("ball", Vec::new()),
                     Role::Wall => ("floating wall", Vec::new()),
-                    Role::Ramp => {
-                        let pit = sides
-                            .iter()
-                            .find(|(at, _)| *at == index)
-                            .map_or(Pit::Right, |(_, pit)| *pit);
-                        ("ramp", side(pit))
-                    }
+                    Role::Ramp(pit) => ("ramp", side(pit)),
                     Role::Pit(pit) => ("pit", side(pit)),
                 };
                 let object = SceneObjectInfo::new(

@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 
 use super::layout::{BALL_RADIUS, Layout, SLAB_DEPTH, SlabLayout};
 use super::simulate::BallRun;
@@ -14,7 +14,7 @@ use crate::dataset::ball::ElasticityType;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
-use crate::synth::{Item, StaticPart, static_rigid_bodies};
+use crate::synth::{Item, StaticPart, four_d_document};
 
 /// A ball's mesh: 24 segments, 16 rings (768 triangles, as the release's ball mesh).
 const SPHERE: (u32, u32) = (24, 16);
@@ -173,7 +173,6 @@ impl BallView {
     /// `outputs4D.json`: the static slabs (staticity, mesh, centre-line voxels) and each ball's
     /// tracked particles per captured frame.
     pub fn four_d(&self, run: &BallRun) -> Value {
-        let round = |v: f64| (v * 1e5).round() / 1e5;
         let parts: Vec<StaticPart<'_>> = self
             .parts
             .iter()
@@ -183,39 +182,21 @@ impl BallView {
                 line: part.line,
             })
             .collect();
-        // Each ball's tracked particles per frame. Its mesh is not written (empty per frame, as
-        // for fluids): it follows from the particles' linear fit, and written per frame with its
-        // faces, as the release did, it made a video's 4-D file ten times larger (8 MB).
-        let mut tracked = Map::new();
-        let mut empty_meshes = Map::new();
-        for (slot, &index) in run.balls.iter().enumerate() {
-            let Some((name, _, _)) = self.balls.get(index) else {
-                continue;
-            };
-            let frames: Vec<Value> = run
-                .frames
-                .iter()
-                .filter_map(|states| states.get(slot))
-                .map(|state| {
-                    json!(
-                        state
-                            .particles
-                            .iter()
-                            .map(|p| p.map(round))
-                            .collect::<Vec<_>>()
-                    )
-                })
-                .collect();
-            tracked.insert(name.clone(), Value::Array(frames));
-            empty_meshes.insert(name.clone(), json!(vec![json!([]); run.frames.len()]));
-        }
-        json!({
-            "rigidbody4D": static_rigid_bodies(&parts, VOXEL),
-            "softbody4D": {
-                "softbodyTrackedParticles": tracked,
-                "softbodyMeshVertices": empty_meshes.clone(),
-                "softbodyMeshFaces": empty_meshes,
-            },
-        })
+        let balls = run
+            .balls
+            .iter()
+            .enumerate()
+            .filter_map(|(slot, &index)| {
+                let (name, _, _) = self.balls.get(index)?;
+                let frames = run
+                    .frames
+                    .iter()
+                    .filter_map(|states| states.get(slot))
+                    .map(|state| state.particles.clone())
+                    .collect();
+                Some((name.clone(), frames))
+            })
+            .collect();
+        four_d_document(&parts, VOXEL, balls)
     }
 }

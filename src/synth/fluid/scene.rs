@@ -10,7 +10,7 @@
 
 use std::sync::Arc;
 
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 
 use super::layout::{EMITTER_WIDTH, Layout};
 use super::simulate::{FluidRun, FluidScene};
@@ -18,7 +18,7 @@ use crate::physics::fluid::FluidParameters;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
 use crate::synth::palette::palette_color;
-use crate::synth::{Item, StaticPart, static_rigid_bodies};
+use crate::synth::{Item, StaticPart, four_d_document};
 
 /// Depth (z extent) of every box, units (`receptor_scale_z`).
 const DEPTH: f64 = 0.2;
@@ -231,7 +231,6 @@ impl FluidView {
     /// `outputs4D.json`: the static parts (staticity, first-capture mesh, pose and centre-line
     /// voxels) and each fluid key's tracked particles per frame.
     pub fn four_d(&self, run: &FluidRun) -> Value {
-        let round = |v: f64| (v * 1e5).round() / 1e5;
         let parts: Vec<StaticPart<'_>> = self
             .parts
             .iter()
@@ -241,40 +240,33 @@ impl FluidView {
                 line: part.line,
             })
             .collect();
-        let mut tracked = Map::new();
-        let mut empty_meshes = Map::new();
-        for (key, (name, _, _)) in self.fluids.iter().enumerate() {
-            let ids: Vec<usize> = run
-                .emitter_of
-                .iter()
-                .enumerate()
-                .filter(|(_, emitter)| **emitter == key)
-                .map(|(particle, _)| particle)
-                .step_by(TRACKED_EVERY)
-                .collect();
-            let frames: Vec<Value> = run
-                .frames
-                .iter()
-                .map(|positions| {
-                    json!(
+        let fluids = self
+            .fluids
+            .iter()
+            .enumerate()
+            .map(|(key, (name, _, _))| {
+                let ids: Vec<usize> = run
+                    .emitter_of
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, emitter)| **emitter == key)
+                    .map(|(particle, _)| particle)
+                    .step_by(TRACKED_EVERY)
+                    .collect();
+                let frames = run
+                    .frames
+                    .iter()
+                    .map(|positions| {
                         ids.iter()
                             .filter_map(|&id| positions.get(id))
-                            .map(|p| [round(p[0]), round(p[1]), 0.0])
-                            .collect::<Vec<_>>()
-                    )
-                })
-                .collect();
-            tracked.insert(name.clone(), Value::Array(frames));
-            empty_meshes.insert(name.clone(), json!(vec![json!([]); run.frames.len()]));
-        }
-        json!({
-            "rigidbody4D": static_rigid_bodies(&parts, VOXEL),
-            "softbody4D": {
-                "softbodyTrackedParticles": tracked,
-                "softbodyMeshVertices": empty_meshes.clone(),
-                "softbodyMeshFaces": empty_meshes,
-            },
-        })
+                            .map(|p| [p[0], p[1], 0.0])
+                            .collect()
+                    })
+                    .collect();
+                (name.clone(), frames)
+            })
+            .collect();
+        four_d_document(&parts, VOXEL, fluids)
     }
 }
 

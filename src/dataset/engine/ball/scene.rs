@@ -7,15 +7,9 @@
 
 use crate::dataset::ball::names::parse_ball_object_name;
 use crate::dataset::ball::{BallAnnotation, BallRecord, ElasticityType};
+use crate::dataset::engine::colour_references;
 
-/// An object the engine can ask about.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) struct Reference<'a> {
-    /// Its annotation name (`Light Blue Ball`).
-    pub(super) name: &'a str,
-    /// Its colour as questions write it (`light blue`).
-    pub(super) word: String,
-}
+pub(super) use crate::dataset::engine::Reference;
 
 /// A ball the engine can ask about, with its material.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -56,18 +50,9 @@ impl<'a> BallScene<'a> {
     }
 }
 
-/// The objects of `names` with their colour words, leaving out every object whose colour word
-/// another of them shares.
+/// The objects of `names` with their colour words (see [`colour_references`]).
 fn references<'a>(names: impl Iterator<Item = &'a str>) -> Vec<Reference<'a>> {
-    let named: Vec<Reference<'a>> = names
-        .filter_map(|name| {
-            let word = parse_ball_object_name(name)?.color?.to_lowercase();
-            Some(Reference { name, word })
-        })
-        .collect();
-    named
-        .iter()
-        .filter(|reference| named.iter().filter(|o| o.word == reference.word).count() == 1)
-        .cloned()
-        .collect()
+    colour_references(names, |name| {
+        Some(parse_ball_object_name(name)?.color?.to_lowercase())
+    })
 }

@@ -5,17 +5,11 @@
 //! paper's templates do. The release gives every fluid, stick and container of a kind a distinct
 //! colour; should two share one, neither is asked about (no phrase tells them apart).
 
+use crate::dataset::engine::colour_references;
 use crate::dataset::fluid::outcome::{DensityOrder, DensityOrdering};
 use crate::dataset::fluid::{FluidAnnotation, later_fluid_name, parse_fluid_object_name};
 
-/// An object the engine can ask about.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) struct Reference<'a> {
-    /// Its annotation name (`Light Blue Fluid`).
-    pub(super) name: &'a str,
-    /// Its colour as questions write it (`light blue`).
-    pub(super) word: String,
-}
+pub(super) use crate::dataset::engine::Reference;
 
 /// A fluid with a predictive emitter.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -86,20 +80,9 @@ impl<'a> FluidScene<'a> {
     }
 }
 
-/// The objects of `names` with their colour words, leaving out every object whose colour word
-/// another of them shares, and names outside the grammar (the reader has already refused those).
+/// The objects of `names` with their colour words (see [`colour_references`]).
 fn references<'a>(names: impl Iterator<Item = &'a str>) -> Vec<Reference<'a>> {
-    let named: Vec<Reference<'a>> = names
-        .filter_map(|name| {
-            let word = parse_fluid_object_name(name)?.color_word()?;
-            Some(Reference { name, word })
-        })
-        .collect();
-    named
-        .iter()
-        .filter(|reference| named.iter().filter(|o| o.word == reference.word).count() == 1)
-        .cloned()
-        .collect()
+    colour_references(names, |name| parse_fluid_object_name(name)?.color_word())
 }
 
 #[cfg(test)]
