@@ -195,6 +195,11 @@ impl ColliderGrid {
         rasterised
     }
 
+    /// The colliders.
+    pub(super) fn colliders(&self) -> &[Collider] {
+        &self.colliders
+    }
+
     /// Whether there is any collider (without, the per-node and per-particle tests are skipped).
     #[inline]
     pub(super) fn has_colliders(&self) -> bool {

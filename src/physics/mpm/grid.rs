@@ -37,6 +37,22 @@ pub(super) fn block_key(base: [u32; 2], along: [usize; 2]) -> u32 {
     index_u32(bx * along[1] + by)
 }
 
+/// Whether node `[i, j]` was summed and updated this substep: a tile covers its block (its own,
+/// or one of the blocks below and to the left, whose tiles reach two nodes over).
+pub(super) fn node_is_live(tile_of: &[u32], along: [usize; 2], node: [usize; 2]) -> bool {
+    let (bx, by) = (node[0] / BLOCK, node[1] / BLOCK);
+    let has_tile = |bx: Option<usize>, by: Option<usize>| match (bx, by) {
+        (Some(bx), Some(by)) if bx < along[0] && by < along[1] => tile_of
+            .get(bx * along[1] + by)
+            .is_some_and(|&tile| tile != NO_TILE),
+        _ => false,
+    };
+    has_tile(Some(bx), Some(by))
+        || has_tile(bx.checked_sub(1), Some(by))
+        || has_tile(Some(bx), by.checked_sub(1))
+        || has_tile(bx.checked_sub(1), by.checked_sub(1))
+}
+
 /// The low corner node of a block.
 pub(super) fn block_corner(block: u32, along: [usize; 2]) -> [usize; 2] {
     let block = block as usize;

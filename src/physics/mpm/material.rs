@@ -1,14 +1,58 @@
-//! MPM materials: what each contributes to the particle-to-grid transfer (its Kirchhoff stress)
-//! and to the time step (its wave speed and diffusion limit). Input: particle state (volume ratio
-//! `J`, velocity gradient `C`). Output: a 2 × 2 stress, row-major.
+//! MPM materials: what each contributes to the particle-to-grid transfer (its Kirchhoff stress),
+//! to the grid-to-particle update (whether it carries a deformation gradient, its plastic
+//! projection) and to the time step (its wave speed and diffusion limit). Input: particle state
+//! (volume ratio `J`, deformation gradient `F`, velocity gradient `C`). Output: a 2 × 2 stress,
+//! row-major.
 
 use super::MpmError;
+use super::elastic::{Matrix2, Projection, corotated_energy_density, corotated_stress, return_map};
 
-/// A material of the MPM core. Elastoplastic materials (the ball scenario) are added here.
+/// A material of the MPM core.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
     /// A weakly compressible liquid (the fluid scenario's fluids).
     Liquid(LiquidMaterial),
+    /// An elastoplastic solid (the ball scenario's soft balls).
+    Elastoplastic(ElastoplasticMaterial),
+    /// Rigid discs ([`Solver::add_rigid_body`](super::Solver::add_rigid_body)): moving colliders
+    /// of the grid, two-way coupled; no stress, so they never limit the time step.
+    Rigid(RigidMaterial),
+}
+
+/// An elastoplastic solid: fixed-corotated elasticity with Young's modulus `E` and Poisson's ratio
+/// `ν` (Lamé `μ = E/(2(1 + ν))`, `λ = Eν/((1 + ν)(1 − 2ν))`), von Mises plasticity with a yield
+/// stress on the Hencky strain (see [`super::elastic`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElastoplasticMaterial {
+    /// Rest density ρ, mass per unit area (2D).
+    pub density: f64,
+    /// Young's modulus `E`, stress units (force per length in 2D).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio `ν`, in [0, 0.5).
+    pub poisson_ratio: f64,
+    /// Von Mises yield stress, stress units; `f64::INFINITY` for a purely elastic solid, 0 for
+    /// one that flows under any shear.
+    pub yield_stress: f64,
+}
+
+impl ElastoplasticMaterial {
+    /// Lamé parameters `(μ, λ)`.
+    pub fn lame(&self) -> (f64, f64) {
+        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
+        (
+            e / (2.0 * (1.0 + nu)),
+            e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        )
+    }
+}
+
+/// The material of rigid discs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidMaterial {
+    /// Density ρ, mass per unit area (2D).
+    pub density: f64,
+    /// Coulomb friction between the disc and other material at its surface (ContPRO used 0).
+    pub friction: f64,
 }
 
 /// A weakly compressible viscous liquid: Kirchhoff stress `τ = κ(J − 1)·I + μ·J·(C + Cᵀ)`, the
@@ -34,12 +78,7 @@ impl Material {
         let invalid = |reason: String| MpmError::InvalidMaterial { index, reason };
         match self {
             Material::Liquid(liquid) => {
-                if !(liquid.density.is_finite() && liquid.density > 0.0) {
-                    return Err(invalid(format!(
-                        "density {} is not positive and finite",
-                        liquid.density
-                    )));
-                }
+                positive_density(liquid.density, &invalid)?;
                 if !(liquid.bulk_modulus.is_finite() && liquid.bulk_modulus > 0.0) {
                     return Err(invalid(format!(
                         "bulk modulus {} is not positive and finite",
@@ -54,6 +93,39 @@ impl Material {
                 }
                 Ok(())
             }
+            Material::Elastoplastic(solid) => {
+                positive_density(solid.density, &invalid)?;
+                if !(solid.youngs_modulus.is_finite() && solid.youngs_modulus > 0.0) {
+                    return Err(invalid(format!(
+                        "Young's modulus {} is not positive and finite",
+                        solid.youngs_modulus
+                    )));
+                }
+                if !(solid.poisson_ratio >= 0.0 && solid.poisson_ratio < 0.5) {
+                    return Err(invalid(format!(
+                        "Poisson's ratio {} is not in [0, 0.5)",
+                        solid.poisson_ratio
+                    )));
+                }
+                if solid.yield_stress.is_nan() || solid.yield_stress < 0.0 {
+                    return Err(invalid(format!(
+                        "yield stress {} is not non-negative (infinity: never yields)",
+                        solid.yield_stress
+                    )));
+                }
+                Ok(())
+            }
+            Material::Rigid(rigid) => {
+                positive_density(rigid.density, &invalid)?;
+                if rigid.friction.is_finite() && rigid.friction >= 0.0 {
+                    Ok(())
+                } else {
+                    Err(invalid(format!(
+                        "friction {} is not finite and non-negative",
+                        rigid.friction
+                    )))
+                }
+            }
         }
     }
 
@@ -61,13 +133,21 @@ impl Material {
     pub fn density(&self) -> f64 {
         match self {
             Material::Liquid(liquid) => liquid.density,
+            Material::Elastoplastic(solid) => solid.density,
+            Material::Rigid(rigid) => rigid.density,
         }
     }
 
-    /// Speed of its pressure (or elastic) waves, `√(κ/ρ)`.
+    /// Speed of its pressure (or elastic) waves: `√(κ/ρ)` for a liquid, the P-wave speed
+    /// `√((λ + 2μ)/ρ)` for a solid, 0 for rigid bodies (no stress).
     pub fn wave_speed(&self) -> f64 {
         match self {
             Material::Liquid(liquid) => (liquid.bulk_modulus / liquid.density).sqrt(),
+            Material::Elastoplastic(solid) => {
+                let (mu, lambda) = solid.lame();
+                ((lambda + 2.0 * mu) / solid.density).sqrt()
+            }
+            Material::Rigid(_) => 0.0,
         }
     }
 
@@ -75,13 +155,53 @@ impl Material {
     pub fn kinematic_viscosity(&self) -> f64 {
         match self {
             Material::Liquid(liquid) => liquid.viscosity / liquid.density,
+            Material::Elastoplastic(_) | Material::Rigid(_) => 0.0,
         }
     }
 
-    /// Kirchhoff stress for volume ratio `j` and velocity gradient `c` (row-major).
+    /// Whether its particles give the grid mass and momentum (rigid discs' markers do not).
     #[inline]
-    pub fn kirchhoff_stress(&self, j: f64, c: &[f64; 4]) -> [f64; 4] {
+    pub fn scatters(&self) -> bool {
+        !matches!(self, Material::Rigid(_))
+    }
+
+    /// Whether its particles carry a deformation gradient (updated and projected each gather).
+    #[inline]
+    pub fn has_deformation(&self) -> bool {
+        matches!(self, Material::Elastoplastic(_))
+    }
+
+    /// Plastic projection of a deformation gradient (see [`return_map`]); liquids and rigid
+    /// bodies leave it alone.
+    #[inline]
+    pub fn project(&self, f: &mut Matrix2) -> Projection {
         match self {
+            Material::Elastoplastic(solid) => return_map(f, solid.lame().0, solid.yield_stress),
+            Material::Liquid(_) | Material::Rigid(_) => Projection::Elastic,
+        }
+    }
+
+    /// Elastic energy per unit reference area for deformation gradient `f` (solids; 0 otherwise).
+    pub fn energy_density(&self, f: &Matrix2) -> f64 {
+        match self {
+            Material::Elastoplastic(solid) => {
+                let (mu, lambda) = solid.lame();
+                corotated_energy_density(f, mu, lambda)
+            }
+            Material::Liquid(_) | Material::Rigid(_) => 0.0,
+        }
+    }
+
+    /// Kirchhoff stress for volume ratio `j`, deformation gradient `f` and velocity gradient `c`
+    /// (row-major).
+    #[inline]
+    pub fn kirchhoff_stress(&self, j: f64, f: &Matrix2, c: &[f64; 4]) -> [f64; 4] {
+        match self {
+            Material::Rigid(_) => [0.0; 4],
+            Material::Elastoplastic(solid) => {
+                let (mu, lambda) = solid.lame();
+                corotated_stress(f, mu, lambda)
+            }
             Material::Liquid(liquid) => {
                 let pressure = liquid.bulk_modulus * (j - 1.0);
                 if liquid.viscosity == 0.0 {
@@ -97,5 +217,15 @@ impl Material {
                 ]
             }
         }
+    }
+}
+
+fn positive_density(density: f64, invalid: &impl Fn(String) -> MpmError) -> Result<(), MpmError> {
+    if density.is_finite() && density > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "density {density} is not positive and finite"
+        )))
     }
 }

@@ -1,6 +1,7 @@
 //! 2D MLS-MPM (moving least squares material point method, Hu et al. 2018) with APIC transfer and
-//! quadratic B-splines: ContPRO's simulator for fluids, built as a core plus materials so the
-//! ball scenario's elastoplastic materials plug in beside the fluid.
+//! quadratic B-splines: ContPRO's simulator for fluids and soft balls, a core plus materials
+//! (liquids; elastoplastic solids, [`elastic`]; rigid bodies moved whole, [`RigidBody`]), any of
+//! them in one grid.
 //!
 //! Units are the caller's (the fluid scenario uses its rescaled square; `mpm88` uses Taichi's unit
 //! square), all in f64. `y` points up; gravity is a vector of the settings.
@@ -11,7 +12,8 @@
 //! stencil reaches at most two nodes into the next block); tiles are added into the grid in block
 //! order; grid nodes turn momentum into velocity, take gravity, the domain walls and the
 //! colliders; particles gather velocity and the APIC affine matrix `C`, move, and update their
-//! volume ratio `J`. Blocks and particles run in parallel on a rayon pool, but every addition
+//! volume ratio `J` (solids: their deformation gradient `F ← (I + Δt·C)·F`, projected onto the
+//! yield surface); rigid bodies then take their particles' momentum and move as one. Blocks and particles run in parallel on a rayon pool, but every addition
 //! happens in the same order whatever the thread count, so serial and parallel runs give the same
 //! bytes.
 //!
@@ -25,10 +27,14 @@
 //! particle states by particle id, the work done ([`WorkCounters`]), typed errors.
 
 mod collider;
+pub mod elastic;
 mod emitter;
 mod grid;
 mod material;
 pub mod mpm88;
+mod rigid;
+#[cfg(test)]
+mod solid_tests;
 mod solver;
 #[cfg(test)]
 mod tests;
@@ -36,7 +42,10 @@ mod transfer;
 
 pub use collider::{Boundary, Collider, Shape};
 pub use emitter::Emitter;
-pub use material::{LiquidMaterial, Material, VOLUME_RATIO_RANGE};
+pub use material::{
+    ElastoplasticMaterial, LiquidMaterial, Material, RigidMaterial, VOLUME_RATIO_RANGE,
+};
+pub use rigid::RigidBody;
 pub use solver::{ParticleState, Settings, Solver, WorkCounters};
 
 /// Errors of the MPM core; each names the value at fault.
@@ -108,6 +117,15 @@ pub enum MpmError {
         needed: f64,
         /// The limit in the settings.
         limit: u64,
+    },
+    /// A rigid body was asked for with a material that is not rigid, or a rigid material's
+    /// particle was added on its own.
+    #[error("MPM material {material}: {reason}")]
+    RigidBody {
+        /// The material index given.
+        material: usize,
+        /// What is wrong.
+        reason: String,
     },
     /// The thread pool could not be built.
     #[error("MPM thread pool: {0}")]

@@ -10,15 +10,19 @@
 
 use rayon::prelude::*;
 
-use super::collider::{Collider, ColliderGrid};
+use super::collider::{Boundary, Collider, ColliderGrid};
+use super::elastic::{IDENTITY, Matrix2};
+use super::elastic::{Projection, determinant};
 use super::emitter::Emitter;
 use super::grid::{
     Bins, GridUpdate, block_corner, block_key, blocks_along, index_u32, merge_and_update,
+    node_is_live,
 };
 use super::material::{Material, VOLUME_RATIO_RANGE};
+use super::rigid::{RigidBodies, RigidBody};
 use super::transfer::{
     ParticleConstants, StepConstants, TILE, affine_norm_squared, clamp_position, gather_particle,
-    is_finite, scatter_particle, speed_squared,
+    grid_index, is_finite, scatter_particle, speed_squared,
 };
 use super::{GridSpec, MpmError};
 
@@ -36,6 +40,9 @@ pub struct ParticleState {
     pub affine: [f64; 4],
     /// Volume ratio `J` (current volume over initial).
     pub volume_ratio: f64,
+    /// Elastic deformation gradient `F`, row-major: the identity at rest; updated only for
+    /// materials that carry one ([`Material::has_deformation`]), so `J = det F` there.
+    pub deformation: Matrix2,
 }
 
 /// Solver settings.
@@ -77,6 +84,10 @@ pub struct WorkCounters {
     pub volume_ratio_clamped: u64,
     /// Times a particle that ended a substep inside a collider was put back on its surface.
     pub pushed_out: u64,
+    /// Times a solid particle's deformation was projected onto its yield surface (plastic flow).
+    pub yielded: u64,
+    /// Times a solid particle's stretch was clamped into its range (zero in a healthy run).
+    pub stretch_clamped: u64,
 }
 
 /// The MPM solver.
@@ -110,6 +121,7 @@ pub struct Solver {
     max_speed: f64,
     max_affine: f64,
     counters: WorkCounters,
+    rigid: RigidBodies,
     pool: std::sync::Arc<rayon::ThreadPool>,
 }
 
@@ -171,13 +183,116 @@ impl Solver {
             max_speed: 0.0,
             max_affine: 0.0,
             counters: WorkCounters::default(),
+            rigid: RigidBodies::default(),
             pool,
         })
     }
 
     /// Adds a particle of `material` with `volume` (area in 2D) at rest deformation; returns its
-    /// id (ids count up from 0 in order of creation, emitted particles included).
+    /// id (ids count up from 0 in order of creation, emitted particles included). Particles of a
+    /// rigid material come only in bodies ([`Solver::add_rigid_body`]).
     pub fn add_particle(
+        &mut self,
+        material: usize,
+        position: [f64; 2],
+        velocity: [f64; 2],
+        volume: f64,
+    ) -> Result<u32, MpmError> {
+        if let Some(Material::Rigid(_)) = self.materials.get(material) {
+            return Err(MpmError::RigidBody {
+                material,
+                reason: "particles of a rigid material are added as a body (add_rigid_body)"
+                    .to_string(),
+            });
+        }
+        self.add_any_particle(material, position, velocity, volume)
+    }
+
+    /// Adds a rigid disc of `material` (a [`Material::Rigid`]) and `radius`, centred on the centroid
+    /// of its marker particles at `positions` (each standing for `volume` of the disc: its mass
+    /// and moment of inertia are theirs), moving with `velocity` and `angular_velocity` (rad/s,
+    /// counter-clockwise); returns its index in [`Solver::rigid_bodies`].
+    pub fn add_rigid_body(
+        &mut self,
+        material: usize,
+        radius: f64,
+        positions: &[[f64; 2]],
+        velocity: [f64; 2],
+        angular_velocity: f64,
+        volume: f64,
+    ) -> Result<usize, MpmError> {
+        let (density, friction) = match self.materials.get(material) {
+            Some(Material::Rigid(rigid)) => (rigid.density, rigid.friction),
+            Some(_) => {
+                return Err(MpmError::RigidBody {
+                    material,
+                    reason: "a rigid body needs a rigid material".to_string(),
+                });
+            }
+            None => {
+                let at = positions.first().copied().unwrap_or([0.0; 2]);
+                return Err(MpmError::UnknownMaterial {
+                    material,
+                    count: self.materials.len(),
+                    x: at[0],
+                    y: at[1],
+                });
+            }
+        };
+        let numbers_finite = [radius, volume, velocity[0], velocity[1], angular_velocity]
+            .iter()
+            .all(|value| value.is_finite());
+        if positions.is_empty() || !numbers_finite || radius <= 0.0 || volume <= 0.0 {
+            return Err(MpmError::RigidBody {
+                material,
+                reason: format!(
+                    "a rigid disc needs markers, a positive radius and volume and finite \
+                     velocities ({} markers, radius {radius}, volume {volume})",
+                    positions.len()
+                ),
+            });
+        }
+        let count = positions.len() as f64;
+        let center = positions.iter().fold([0.0; 2], |sum, position| {
+            [sum[0] + position[0] / count, sum[1] + position[1] / count]
+        });
+        let offsets: Vec<[f64; 2]> = positions
+            .iter()
+            .map(|position| [position[0] - center[0], position[1] - center[1]])
+            .collect();
+        let mass = density * volume;
+        let body = RigidBody {
+            first: self.next_id,
+            inertia: offsets
+                .iter()
+                .map(|offset| mass * (offset[0] * offset[0] + offset[1] * offset[1]))
+                .sum(),
+            mass: mass * count,
+            radius,
+            friction,
+            offsets,
+            center,
+            angle: 0.0,
+            velocity,
+            angular_velocity,
+        };
+        for (index, &position) in positions.iter().enumerate() {
+            let mut state = ParticleState::default();
+            body.place(&mut state, index);
+            self.add_any_particle(material, position, state.velocity, volume)?;
+        }
+        self.max_speed = self.max_speed.max(body.top_speed());
+        let index = self.rigid.bodies.len();
+        self.rigid.bodies.push(body);
+        Ok(index)
+    }
+
+    /// The rigid bodies, in order of creation.
+    pub fn rigid_bodies(&self) -> &[RigidBody] {
+        &self.rigid.bodies
+    }
+
+    fn add_any_particle(
         &mut self,
         material: usize,
         position: [f64; 2],
@@ -212,6 +327,7 @@ impl Solver {
             velocity,
             affine: [0.0; 4],
             volume_ratio: 1.0,
+            deformation: IDENTITY,
         };
         if self.clamp_into_grid(&mut state.position) {
             self.counters.clamped += 1;
@@ -255,6 +371,11 @@ impl Solver {
     /// The grid.
     pub fn grid(&self) -> &GridSpec {
         &self.grid
+    }
+
+    /// The materials, by index.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
     }
 
     /// Simulated time, s.
@@ -317,6 +438,13 @@ impl Solver {
         };
         if diffusion > 0.0 {
             dt = dt.min(self.settings.cfl * dx * dx / (2.0 * diffusion));
+        }
+        // A particle at rest with no wave to limit it (rigid bodies) still falls: within one step
+        // gravity alone must not carry it more than the CFL share of a cell, `½·g·Δt² ≤ cfl·dx/2`.
+        // Never the binding limit where a material has waves (the fluids' bytes are unchanged).
+        let gravity = self.settings.gravity[0].hypot(self.settings.gravity[1]);
+        if gravity > 0.0 {
+            dt = dt.min((self.settings.cfl * dx / gravity).sqrt());
         }
         dt
     }
@@ -382,6 +510,9 @@ impl Solver {
         self.bin_by_block();
         self.scatter(dt);
         self.update_grid(dt);
+        if !self.rigid.is_empty() {
+            self.couple_rigid_bodies(dt);
+        }
         self.gather(dt)?;
         self.time += dt;
         self.counters.substeps += 1;
@@ -425,7 +556,9 @@ impl Solver {
                     return;
                 };
                 for ((particle, constant), &base) in particles.iter().zip(constants).zip(bases) {
-                    if let Some(material) = materials.get(constant.material as usize) {
+                    if let Some(material) = materials.get(constant.material as usize)
+                        && material.scatters()
+                    {
                         scatter_particle(tile, corner, particle, base, constant, material, &step);
                     }
                 }
@@ -478,7 +611,9 @@ impl Solver {
                     *state_out = *particle;
                     *constant_out = *constant;
                     *base_out = base;
-                    if let Some(material) = materials.get(constant.material as usize) {
+                    if let Some(material) = materials.get(constant.material as usize)
+                        && material.scatters()
+                    {
                         scatter_particle(tile, corner, particle, base, constant, material, &step);
                     }
                 }
@@ -511,6 +646,9 @@ impl Solver {
         let limits = self.position_limits();
         let colliders = &self.colliders;
         let any_collider = colliders.has_colliders();
+        let materials = &self.materials;
+        // Liquids alone (the fluid scenario) never read the constants here.
+        let any_deformation = materials.iter().any(Material::has_deformation);
         self.block_of.resize(self.state.len(), 0);
         self.base_of.resize(self.state.len(), [0; 2]);
         let outcome = self
@@ -518,19 +656,36 @@ impl Solver {
             .par_chunks_mut(GATHER_CHUNK)
             .zip(self.block_of.par_chunks_mut(GATHER_CHUNK))
             .zip(self.base_of.par_chunks_mut(GATHER_CHUNK))
+            .zip(self.constants.par_chunks(GATHER_CHUNK))
             .enumerate()
-            .map(|(chunk, ((particles, blocks), bases))| {
+            .map(|(chunk, (((particles, blocks), bases), constants))| {
                 let mut outcome = GatherOutcome::default();
-                let each = particles.iter_mut().zip(blocks).zip(bases);
-                for (offset, ((particle, block), base)) in each.enumerate() {
+                let each = particles.iter_mut().zip(blocks).zip(bases).zip(constants);
+                for (offset, (((particle, block), base), constant)) in each.enumerate() {
                     gather_particle(particle, *base, nodes, columns, &step);
+                    let solid = if any_deformation {
+                        materials
+                            .get(constant.material as usize)
+                            .filter(|material| material.has_deformation())
+                    } else {
+                        None
+                    };
+                    if let Some(material) = solid {
+                        match deform(particle, material, dt) {
+                            Projection::Elastic => {}
+                            Projection::Yielded => outcome.yielded += 1,
+                            Projection::Clamped => outcome.stretch_clamped += 1,
+                        }
+                    }
                     if any_collider {
                         let nearest = step.nearest_node(particle.position, columns);
                         outcome.pushed_out += u64::from(colliders.push_out(particle, nearest));
                     }
                     outcome.clamped += u64::from(clamp_position(&mut particle.position, limits));
                     let ratio = particle.volume_ratio;
-                    if ratio < VOLUME_RATIO_RANGE.0 || ratio > VOLUME_RATIO_RANGE.1 {
+                    if solid.is_none()
+                        && (ratio < VOLUME_RATIO_RANGE.0 || ratio > VOLUME_RATIO_RANGE.1)
+                    {
                         particle.volume_ratio =
                             ratio.clamp(VOLUME_RATIO_RANGE.0, VOLUME_RATIO_RANGE.1);
                         outcome.ratio_clamped += 1;
@@ -559,8 +714,93 @@ impl Solver {
         self.counters.clamped += outcome.clamped;
         self.counters.volume_ratio_clamped += outcome.ratio_clamped;
         self.counters.pushed_out += outcome.pushed_out;
+        self.counters.yielded += outcome.yielded;
+        self.counters.stretch_clamped += outcome.stretch_clamped;
         self.max_speed = outcome.max_speed_squared.sqrt();
         self.max_affine = outcome.max_affine_squared.sqrt();
+        if !self.rigid.is_empty() {
+            self.move_rigid_bodies(dt)?;
+        }
+        Ok(())
+    }
+
+    /// Each rigid disc projects the grid velocities inside it and takes the momentum they lose
+    /// (see [`RigidBody::couple_node`]), then moves ([`RigidBody::advance`]). Discs in order,
+    /// nodes in index order: the same sums for any thread count.
+    fn couple_rigid_bodies(&mut self, dt: f64) {
+        let along = blocks_along(&self.grid);
+        let columns = self.grid.nodes[1];
+        let grid = self.grid;
+        let gravity = self.settings.gravity;
+        let colliders = self.colliders.colliders();
+        for body in &mut self.rigid.bodies {
+            let boundary = Boundary::Separate {
+                friction: body.friction,
+            };
+            // The nodes the disc covers, clamped into the grid.
+            let node_range = |axis: usize| {
+                let low = (body.center[axis] - body.radius - grid.origin[axis]) / grid.spacing;
+                let high = (body.center[axis] + body.radius - grid.origin[axis]) / grid.spacing;
+                let last = grid.nodes[axis] - 1;
+                (
+                    grid_index(low.max(0.0)).min(last),
+                    grid_index(high.ceil().max(0.0)).min(last),
+                )
+            };
+            let (rows, cells) = (node_range(0), node_range(1));
+            let mut exchange = ([0.0; 2], 0.0);
+            for i in rows.0..=rows.1 {
+                for j in cells.0..=cells.1 {
+                    // Nodes of blocks no tile reached hold last substep's numbers: skip them.
+                    if !node_is_live(&self.bins.tile_of, along, [i, j]) {
+                        continue;
+                    }
+                    if let Some(node) = self.nodes.get_mut(i * columns + j) {
+                        body.couple_node(node, grid.node_position(i, j), boundary, &mut exchange);
+                    }
+                }
+            }
+            body.advance(exchange, gravity, colliders, dt);
+        }
+    }
+
+    /// The rigid discs' markers are put on their discs' poses, rebinned, checked and counted in
+    /// the speed limits like the rest.
+    fn move_rigid_bodies(&mut self, dt: f64) -> Result<(), MpmError> {
+        let step = self.step_constants(dt);
+        let along = blocks_along(&self.grid);
+        let limits = self.position_limits();
+        let mut max_speed_squared = self.max_speed * self.max_speed;
+        let mut max_affine_squared = self.max_affine * self.max_affine;
+        let particles = self
+            .state
+            .iter_mut()
+            .zip(&self.constants)
+            .zip(self.base_of.iter_mut().zip(self.block_of.iter_mut()));
+        for ((particle, constant), (base, block)) in particles {
+            let Some((body, index)) = self.rigid.find(constant.id) else {
+                continue;
+            };
+            if let Some(body) = self.rigid.bodies.get(body) {
+                body.place(particle, index);
+            }
+            if clamp_position(&mut particle.position, limits) {
+                self.counters.clamped += 1;
+            }
+            if !is_finite(particle) {
+                return Err(MpmError::NotFinite {
+                    id: constant.id,
+                    substep: self.counters.substeps,
+                    time: self.time,
+                });
+            }
+            max_speed_squared = max_speed_squared.max(speed_squared(particle));
+            max_affine_squared = max_affine_squared.max(affine_norm_squared(particle));
+            *base = step.base_cell(particle.position);
+            *block = block_key(*base, along);
+        }
+        self.max_speed = max_speed_squared.sqrt();
+        self.max_affine = max_affine_squared.sqrt();
         Ok(())
     }
 
@@ -600,6 +840,18 @@ impl Solver {
     }
 }
 
+/// A solid particle's deformation gradient after the gather: `F ← (I + Δt·C)·F` with the new
+/// velocity gradient `C`, projected by the material's plasticity; its volume ratio is `det F`.
+#[inline]
+fn deform(particle: &mut ParticleState, material: &Material, dt: f64) -> Projection {
+    let c = particle.affine;
+    let step = [1.0 + dt * c[0], dt * c[1], dt * c[2], 1.0 + dt * c[3]];
+    particle.deformation = super::elastic::multiply(&step, &particle.deformation);
+    let projection = material.project(&mut particle.deformation);
+    particle.volume_ratio = determinant(&particle.deformation);
+    projection
+}
+
 /// Fraction of a cell kept between a clamped particle and the edge of the stencil range.
 const STENCIL_MARGIN: f64 = 1e-9;
 
@@ -610,6 +862,8 @@ struct GatherOutcome {
     clamped: u64,
     ratio_clamped: u64,
     pushed_out: u64,
+    yielded: u64,
+    stretch_clamped: u64,
     max_speed_squared: f64,
     max_affine_squared: f64,
 }
@@ -624,6 +878,8 @@ impl GatherOutcome {
             clamped: a.clamped + b.clamped,
             ratio_clamped: a.ratio_clamped + b.ratio_clamped,
             pushed_out: a.pushed_out + b.pushed_out,
+            yielded: a.yielded + b.yielded,
+            stretch_clamped: a.stretch_clamped + b.stretch_clamped,
             max_speed_squared: a.max_speed_squared.max(b.max_speed_squared),
             max_affine_squared: a.max_affine_squared.max(b.max_affine_squared),
         }

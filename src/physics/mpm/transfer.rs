@@ -119,7 +119,11 @@ pub(super) fn scatter_particle(
 ) {
     let (base, w, fx) = step.stencil(particle.position, base);
     let dx = step.dx;
-    let stress = material.kirchhoff_stress(particle.volume_ratio, &particle.affine);
+    let stress = material.kirchhoff_stress(
+        particle.volume_ratio,
+        &particle.deformation,
+        &particle.affine,
+    );
     let scale = -step.dt * 4.0 * constant.volume * step.inverse * step.inverse;
     let mass = constant.mass;
     let affine = [
