@@ -28,15 +28,26 @@ FLUID_CLASSES = {
 }
 FLUID_FLUID = 4  # the class whose instances are split into connected components per frame
 
+# The ball model's classes (its own model, models/maskrcnn-ball.onnx; same contract). Material is
+# not a class (elastic and rigid balls share a prefab; a plastic ball differs only by its dent),
+# nor is a ramp's side.
+BALL_CLASSES = {
+    1: "ball",
+    2: "floating wall",
+    3: "ramp",
+    4: "floor piece",
+}
+
 # Per scenario: class table, number of classes with background, the data root's scenario folder.
 SCENARIOS = {
     "rope": {"classes": CLASSES, "num_classes": NUM_CLASSES, "folder": "pulley_group"},
     "fluid": {"classes": FLUID_CLASSES, "num_classes": len(FLUID_CLASSES) + 1, "folder": "fluid_slides"},
+    "ball": {"classes": BALL_CLASSES, "num_classes": len(BALL_CLASSES) + 1, "folder": "soft_body"},
 }
 
 
 def scenario(name):
-    """The SCENARIOS entry of `name` (rope, fluid)."""
+    """The SCENARIOS entry of `name` (rope, fluid, ball)."""
     if name not in SCENARIOS:
         raise SystemExit(f"unknown scenario {name!r} (known: {', '.join(SCENARIOS)})")
     return SCENARIOS[name]
@@ -107,6 +118,37 @@ def fluid_groups(names):
     first_free = len(keys) + 1
     classes[first_free:] = FLUID_FLUID  # components get ids first_free..255
     return lut, classes, fluid_ids, first_free, unknown
+
+
+def ball_class_of_name(name):
+    """Class id of a ball-scenario Id2ObjectNameDict name: "<C> Ball" 1, "<C> Floating Wall" 2,
+    "Right Ramp" / "Left Ramp" 3, "Floor Piece 1st" (2nd, 3rd) 4; 0 for anything else."""
+    if name.endswith(" Ball"):
+        return 1
+    if name.endswith(" Floating Wall"):
+        return 2
+    if name in ("Right Ramp", "Left Ramp"):
+        return 3
+    if name.startswith("Floor Piece"):
+        return 4
+    return 0
+
+
+def ball_groups(names):
+    """Generator instance ids -> target ids of a ball video, in the shape of fluid_groups: every
+    named object is its own instance (its generator id kept), nothing is split into components.
+    Returns (lut, classes, fluid_ids = [], first_free, unknown names)."""
+    lut = np.zeros(256, np.uint8)
+    classes = np.zeros(256, np.int64)
+    unknown = []
+    for iid, name in names.items():
+        cls = ball_class_of_name(name)
+        if cls == 0:
+            unknown.append(name)
+            continue
+        lut[iid] = iid
+        classes[iid] = cls
+    return lut, classes, [], max(names, default=0) + 1, unknown
 
 
 def dilate3(m):

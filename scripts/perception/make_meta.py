@@ -2,11 +2,13 @@
 
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA [--score-thresh 0.3 --nms 0.5 --detections 24]
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario fluid --detections 64
+  python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario ball
 
 DATA is the directory holding the generated data roots the caches were made from (train-rand/,
 train-rel/): every training video is listed with the SHA-256 of its outputs.json, so a test can
 check that the real video is not among them. For fluid (models/maskrcnn-fluid.json) DATA holds
-fluid-train-rand/ and fluid-train-rel/ (caches named like their data roots).
+fluid-train-rand/ and fluid-train-rel/ (caches named like their data roots), for ball
+(models/maskrcnn-ball.json) ball-train-rand/ and ball-train-rel/.
 """
 import argparse
 import hashlib
@@ -30,6 +32,15 @@ FLUID_GENERATE = [
     "contphy-eval generate --scenario fluid --videos 12 --seed 3202 --out fluid-train-rel --frames both "
     "--resolution 480x270 --jobs 1 --quiet",
     "contphy-eval generate --scenario fluid --videos 8 --seed 11 --out fluid-tune11 --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+]
+
+BALL_GENERATE = [
+    "contphy-eval generate --scenario ball --videos 24 --seed 3301 --out ball-train-rand --frames both "
+    "--resolution 480x270 --jobs 1 --quiet --appearance randomized",
+    "contphy-eval generate --scenario ball --videos 12 --seed 3302 --out ball-train-rel --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+    "contphy-eval generate --scenario ball --videos 8 --seed 3303 --out ball-heldout3303 --frames both "
     "--resolution 480x270 --jobs 1 --quiet",
 ]
 
@@ -66,6 +77,21 @@ TEXT = {
         "held_out": "fluid-tune11 (seed 11, videos 0-5): evaluation only (metrics; every 10th frame, RGB from the "
                     "PNG and, as heldout_generated_mp4, from the mp4; fluid targets as in stage 2); the test set "
                     "(seed 2026) is never used",
+    },
+    "ball": {
+        "generate": BALL_GENERATE,
+        "randomised": "shadows, noise and blur",
+        "mix": "ball-train-rand (randomised appearance) and ball-train-rel (the release's look), the whole "
+               "480x270 frame (every 5th frame), sampled uniformly by frame",
+        "frames_note": "every 5th frame of each video (offset video_id % 5), 480x270 as generated; RGB from the "
+                       "PNG on even cached frames and from output_Full.mp4 (ffmpeg, rgb24, -fps_mode passthrough) "
+                       "on odd ones, so that half the frames carry the compression of the evaluated videos; masks "
+                       "from the exact PNG segmentation colours, each object its own instance: <C> Ball a ball, "
+                       "<C> Floating Wall a floating wall, Right Ramp and Left Ramp a ramp, Floor Piece 1st/2nd/3rd "
+                       "a floor piece; the stadium behind them is not segmented (background); instances under "
+                       "6 pixels dropped (a ball in a pit)",
+        "held_out": "ball-heldout3303 (seed 3303, 8 videos): evaluation only (metrics; every 10th frame, RGB from "
+                    "the PNG and, as heldout_generated_mp4, from the mp4); the test seeds (2026, 100) are never used",
     },
 }
 
@@ -140,7 +166,7 @@ def main():
     ap.add_argument("--init-generate", action="append", default=[],
                     help="the generate commands of the pretraining data (repeatable)")
     ap.add_argument("--loss-csv", help="train.py's loss.csv: final losses = mean of its last 10 rows")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"])
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"])
     a = ap.parse_args()
     sc = scenario(a.scenario)
     classes, text = sc["classes"], TEXT[a.scenario]

@@ -3,6 +3,7 @@
   python prep_data.py generated DATA_ROOT OUT_DIR [--every 3] [--zoom]
   python prep_data.py real SAMPLE_VIDEO_DIR OUT_FILE
   python prep_data.py generated DATA_ROOT OUT_DIR --scenario fluid --every 5 [--rgb png|mp4|alternate]
+  python prep_data.py generated DATA_ROOT OUT_DIR --scenario ball --every 5 [--rgb png|mp4|alternate]
 
 Cache: imgs [F,270,480,3] uint8, inst [F,270,480] uint8 (instance ids), keys [F] (annotation keys),
 classes [256] int64 (instance id -> class id, 0 = ignore).
@@ -15,6 +16,10 @@ components (8-connectivity after a 3x3 dilation; components under 6 pixels are b
 of class fluid. --rgb mp4 takes the RGB from output_Full.mp4 (decoded by ffmpeg as the Rust side
 does), --rgb alternate takes it from the PNG and the mp4 on alternate cached frames (`mp4` [F] bool
 in the cache); masks always come from the exact PNG segmentation.
+
+Ball (--scenario ball): the fluid path without groups or components: every ball, floating wall,
+ramp and floor piece is its own instance (its generator id kept; common.ball_groups); the
+stadium behind them is not segmented (background). --rgb as for fluid.
 """
 import argparse
 import glob
@@ -23,7 +28,7 @@ import os
 import numpy as np
 from PIL import Image
 
-from common import (IN_H, IN_W, box_average, class_of_name, decode_video, downscale_instance_map,
+from common import (IN_H, IN_W, ball_groups, box_average, class_of_name, decode_video, downscale_instance_map,
                     fluid_groups, frame_record, load_annotations, scenario, seg_to_instances,
                     split_components)
 
@@ -127,8 +132,9 @@ def mp4_rgb(vd, shape, n, pngs):
     return rgb
 
 
-def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides", join=1):
-    """Caches of generated fluid videos (see the module doc); no real-video part."""
+def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides", join=1, groups=fluid_groups):
+    """Caches of generated fluid videos (see the module doc); no real-video part. With
+    groups=ball_groups and folder soft_body, of ball videos (no fluid, so nothing is split)."""
     os.makedirs(out, exist_ok=True)
     vids = sorted((p for p in glob.glob(os.path.join(root, folder, "*")) if os.path.basename(p).isdigit()),
                   key=lambda p: int(os.path.basename(p)))
@@ -145,7 +151,7 @@ def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides", join=1):
         segs = glob.glob(os.path.join(vd, "frames", "output_Full_seg", "frame_*.png"))
         if not files or len(files) != len(per_frame) or len(segs) != len(files):
             continue  # incomplete
-        lut, cls, fluid_ids, first_free, unknown = fluid_groups(names)
+        lut, cls, fluid_ids, first_free, unknown = groups(names)
         if unknown:
             print(f"{vd}: names taken as background: {unknown}", flush=True)
         frames = list(range(vid % every, len(files), every))
@@ -224,9 +230,9 @@ if __name__ == "__main__":
     ap.add_argument("mode", choices=["generated", "real"])
     ap.add_argument("src")
     ap.add_argument("out")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid"])
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"])
     ap.add_argument("--rgb", default="png", choices=["png", "mp4", "alternate"],
-                    help="fluid: where the RGB comes from (the masks always come from the PNG segmentation)")
+                    help="fluid, ball: where the RGB comes from (the masks always come from the PNG segmentation)")
     ap.add_argument("--every", type=int, default=3)
     ap.add_argument("--fluid-join", type=int, default=1,
                     help="fluid: drops within 2*J pixels are one instance; J > 1 also fills the gaps between "
@@ -239,8 +245,12 @@ if __name__ == "__main__":
         if a.mode != "generated" or a.zoom:
             raise SystemExit("fluid: generated videos only, without --zoom")
         prep_fluid(a.src, a.out, a.every, a.rgb, scenario("fluid")["folder"], a.fluid_join)
+    elif a.scenario == "ball":
+        if a.mode != "generated" or a.zoom or a.fluid_join != 1:
+            raise SystemExit("ball: generated videos only, without --zoom or --fluid-join")
+        prep_fluid(a.src, a.out, a.every, a.rgb, scenario("ball")["folder"], groups=ball_groups)
     elif a.rgb != "png":
-        raise SystemExit("--rgb: fluid only")
+        raise SystemExit("--rgb: fluid and ball only")
     elif a.mode == "generated":
         prep_generated(a.src, a.out, a.every, a.zoom)
     else:
