@@ -653,23 +653,18 @@ impl Cli {
                 grid_spacing,
                 particles_per_cell,
                 emitter_shift,
+                cfl,
+                start_shift,
                 videos,
             })) => Request::BenchPhysics(BenchPhysicsSettings {
                 scenario,
                 svg,
-                sweep: [
-                    ("--dt", steps),
-                    ("--grid-spacing", grid_spacing),
-                    (
-                        "--particles-per-cell",
-                        particles_per_cell
-                            .map(|counts| counts.into_iter().map(f64::from).collect()),
-                    ),
-                    ("--emitter-shift", emitter_shift),
-                ]
-                .into_iter()
-                .filter_map(|(flag, values)| values.map(|values| (flag, values)))
-                .collect(),
+                sweep: physics_sweep(
+                    steps,
+                    grid_spacing,
+                    particles_per_cell,
+                    [emitter_shift, cfl, start_shift],
+                ),
                 videos,
             }),
             Some(Command::Perception(PerceptionCommand::FitColors {
@@ -732,4 +727,27 @@ impl Cli {
             }
         }
     }
+}
+
+/// The `bench physics` sweep options that were given, with their flags (`shifts_and_cfl`:
+/// `--emitter-shift`, `--cfl`, `--start-shift`).
+fn physics_sweep(
+    steps: Option<Vec<f64>>,
+    grid_spacing: Option<Vec<f64>>,
+    particles_per_cell: Option<Vec<u32>>,
+    shifts_and_cfl: [Option<Vec<f64>>; 3],
+) -> Vec<(&'static str, Vec<f64>)> {
+    let [emitter_shift, cfl, start_shift] = shifts_and_cfl;
+    let per_cell = particles_per_cell.map(|counts| counts.into_iter().map(f64::from).collect());
+    [
+        ("--dt", steps),
+        ("--grid-spacing", grid_spacing),
+        ("--particles-per-cell", per_cell),
+        ("--emitter-shift", emitter_shift),
+        ("--cfl", cfl),
+        ("--start-shift", start_shift),
+    ]
+    .into_iter()
+    .filter_map(|(flag, values)| values.map(|values| (flag, values)))
+    .collect()
 }

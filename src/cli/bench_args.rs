@@ -37,10 +37,10 @@ pub enum BenchCommand {
         /// Time steps to sweep, s (comma-separated; rope default 0.02 down to 0.0001).
         #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
         steps: Option<Vec<f64>>,
-        /// Grid spacings to sweep, scene units (comma-separated; fluid).
+        /// Grid spacings to sweep, scene units (comma-separated; fluid, ball).
         #[arg(long = "grid-spacing", value_name = "DX,...", value_delimiter = ',')]
         grid_spacing: Option<Vec<f64>>,
-        /// Particles per cell along each axis to sweep (comma-separated; fluid).
+        /// Particles per cell along each axis to sweep (comma-separated; fluid, ball).
         #[arg(
             long = "particles-per-cell",
             value_name = "N,...",
@@ -56,7 +56,19 @@ pub enum BenchCommand {
             allow_negative_numbers = true
         )]
         emitter_shift: Option<Vec<f64>>,
-        /// A video the cases are built from (repeatable; fluid; default: the demo video).
+        /// CFL numbers of the substep to sweep (comma-separated; ball).
+        #[arg(long = "cfl", value_name = "C,...", value_delimiter = ',')]
+        cfl: Option<Vec<f64>>,
+        /// Shifts of every ball's start along x to sweep, scene units (comma-separated; ball: a
+        /// shift at the reference's resolution measures the runs' chaos).
+        #[arg(
+            long = "start-shift",
+            value_name = "UNITS,...",
+            value_delimiter = ',',
+            allow_negative_numbers = true
+        )]
+        start_shift: Option<Vec<f64>>,
+        /// A video the cases are built from (repeatable; fluid, ball; default: the demo video).
         #[arg(long = "video", value_name = "DIR")]
         videos: Vec<PathBuf>,
     },

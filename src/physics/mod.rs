@@ -14,7 +14,7 @@
 //! * [`shape_matching`]: particle soft bodies held by shape matching, the ball scenario's truth
 //!   solver (the release's Obi Softbody settings).
 //! * [`mpm`]: 2D MLS-MPM (core plus materials), ContPRO's simulator for fluids and balls.
-//! * [`linalg`]: the small dense solvers they share.
+//! * [`linalg`]: the small dense solvers they share; [`slab`]: the slabs' signed distance.
 //! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
 //!   answers).
 
@@ -24,3 +24,4 @@ pub mod linalg;
 pub mod mpm;
 pub mod rope;
 pub mod shape_matching;
+pub mod slab;

@@ -121,6 +121,7 @@ static TABLE: [ScenarioParts; 4] = [
         writer: Some(&builtin::ball::WRITER),
         scene: Some(scene_api::ball::load),
         inference_bench: Some(scene_api::ball::infer::inference_report),
+        physics_bench: Some(&scene_api::ball::physics_bench::BENCH),
         ..ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY)
     },
 ];

@@ -701,3 +701,46 @@ fn the_fluid_models_learnt_from_their_training_seeds_only() {
         .collect();
     assert_eq!(classes, ["stick", "container", "emitter", "fluid"]);
 }
+
+#[test]
+fn the_ball_detector_learnt_from_its_training_seeds_only() {
+    // The ball detector lists the generated videos it learnt from: every one from the two
+    // training seeds' folders (3301 randomised, 3302 the release's look), never the held-out
+    // seed's (3303), the tuning seed's (11) or the test seed's (2026), and none is a demo video
+    // or the hand-written fixture (by their outputs.json hashes).
+    let root = crate::support::root();
+    let excluded: Vec<String> = [
+        "eval/demo/soft_body/0",
+        "eval/demo/soft_body/1",
+        "tests/data/soft_body/0",
+    ]
+    .iter()
+    .map(|dir| sha256_hex(&root.join(dir).join("outputs.json")))
+    .collect();
+    let detector: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(root.join("models/maskrcnn-ball.json")).unwrap())
+            .unwrap();
+    let listed = detector["data"]["training_videos"].as_array().unwrap();
+    assert_eq!(listed.len(), 36);
+    for video in listed {
+        let folder = video["video"].as_str().unwrap();
+        assert!(
+            folder.starts_with("ball-train-rand/soft_body/")
+                || folder.starts_with("ball-train-rel/soft_body/"),
+            "{folder}"
+        );
+        let hash = video["outputs_sha256"].as_str().unwrap();
+        assert_eq!(hash.len(), 64, "{video}");
+        assert!(
+            !excluded.iter().any(|other| other == hash),
+            "the ball detector learnt from a held-out video: {video}"
+        );
+    }
+    let classes: Vec<&str> = detector["classes"]
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|name| name.as_str())
+        .collect();
+    assert_eq!(classes, ["ball", "floating wall", "ramp", "floor piece"]);
+}

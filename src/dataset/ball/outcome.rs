@@ -18,6 +18,27 @@ pub const CAPTURE_UPDATES: usize = 240;
 pub const MAX_UPDATES: usize = 2000;
 /// A run ends early once every ball's centre is below this, units.
 pub const GONE_HEIGHT: f64 = -1.0;
+/// Updates over which a ball that moved less than [`REST_DISTANCE`] lies still.
+pub const REST_UPDATES: usize = 60;
+/// See [`REST_UPDATES`], units.
+pub const REST_DISTANCE: f64 = 0.01;
+
+/// Whether a ball's track of centres (one per update) has ended: dropped out of the stadium
+/// (below [`GONE_HEIGHT`]), or still for [`REST_UPDATES`] updates (its centre within
+/// [`REST_DISTANCE`] of where it was). A ball lying still in a static scene never moves again,
+/// so its label is the one the release's longer run gives.
+pub fn track_finished(track: &[[f64; 2]]) -> bool {
+    let Some(last) = track.last() else {
+        return true;
+    };
+    if last[1] < GONE_HEIGHT {
+        return true;
+    }
+    track.len() > REST_UPDATES
+        && track
+            .get(track.len() - 1 - REST_UPDATES)
+            .is_some_and(|before| (last[0] - before[0]).hypot(last[1] - before[1]) < REST_DISTANCE)
+}
 
 /// Which pit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]

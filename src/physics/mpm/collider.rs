@@ -1,5 +1,5 @@
 //! Static colliders of the MPM core as signed distances (negative inside), at any angle: half
-//! planes (floors, walls) and capsules (sticks, funnel and container walls). Each grid node inside
+//! planes (floors, walls), capsules (sticks, funnel and container walls) and rectangles (slabs). Each grid node inside
 //! a collider has its velocity projected once per substep by the collider's boundary condition
 //! (sticky, slip, or separate with Coulomb friction), as taichi_elements does; the nodes each
 //! collider reaches are found once, when the solver is built, since colliders do not move.
@@ -22,6 +22,16 @@ pub enum Shape {
         point: [f64; 2],
         /// Unit outward normal (pointing into the free side).
         normal: [f64; 2],
+    },
+    /// The rectangle around the segment `a`–`b`, `thickness` across it, with square ends (a
+    /// slab: the ball scenario's ramps, floor pieces and floating walls).
+    Rectangle {
+        /// One end of the centre line.
+        a: [f64; 2],
+        /// The other end.
+        b: [f64; 2],
+        /// Full thickness across the centre line.
+        thickness: f64,
     },
     /// Points within `radius` of the segment `a`–`b` are solid.
     Capsule {
@@ -66,6 +76,9 @@ impl Collider {
                 (point[0] - on[0]) * normal[0] + (point[1] - on[1]) * normal[1],
                 normal,
             ),
+            Shape::Rectangle { a, b, thickness } => {
+                crate::physics::slab::signed_distance(point, a, b, thickness)
+            }
             Shape::Capsule { a, b, radius } => {
                 let ab = [b[0] - a[0], b[1] - a[1]];
                 let ap = [point[0] - a[0], point[1] - a[1]];
@@ -111,6 +124,9 @@ impl Collider {
             }
             Shape::Capsule { a, b, radius } => {
                 finite(&[a[0], a[1], b[0], b[1], radius]) && radius >= 0.0
+            }
+            Shape::Rectangle { a, b, thickness } => {
+                finite(&[a[0], a[1], b[0], b[1], thickness]) && thickness > 0.0
             }
         };
         boundary_ok && shape_ok

@@ -53,6 +53,8 @@ pub struct RigidMaterial {
     pub density: f64,
     /// Coulomb friction between the disc and other material at its surface (ContPRO used 0).
     pub friction: f64,
+    /// Rolling resistance against the static colliders (0: an ideal disc rolls at ⅔ g sin θ).
+    pub rolling_resistance: f64,
 }
 
 /// A weakly compressible viscous liquid: Kirchhoff stress `τ = κ(J − 1)·I + μ·J·(C + Cᵀ)`, the
@@ -117,12 +119,15 @@ impl Material {
             }
             Material::Rigid(rigid) => {
                 positive_density(rigid.density, &invalid)?;
-                if rigid.friction.is_finite() && rigid.friction >= 0.0 {
+                if [rigid.friction, rigid.rolling_resistance]
+                    .iter()
+                    .all(|value| value.is_finite() && *value >= 0.0)
+                {
                     Ok(())
                 } else {
                     Err(invalid(format!(
-                        "friction {} is not finite and non-negative",
-                        rigid.friction
+                        "friction {} or rolling resistance {} is not finite and non-negative",
+                        rigid.friction, rigid.rolling_resistance
                     )))
                 }
             }

@@ -21,8 +21,12 @@
 //! Input: each disc's radius, mass, moment of inertia, pose and velocities; its marker offsets.
 //! Output: per substep, the grid velocities projected, the discs' new poses, the markers' states.
 
+use super::MpmError;
 use super::collider::{Boundary, Collider, project};
-use super::solver::ParticleState;
+use super::grid::{block_key, blocks_along, node_is_live};
+use super::material::Material;
+use super::solver::{ParticleState, Solver};
+use super::transfer::{affine_norm_squared, clamp_position, grid_index, is_finite, speed_squared};
 
 /// Sequential-impulse passes over a disc's collider contacts per substep (a wedge has two).
 const CONTACT_PASSES: usize = 8;
@@ -41,6 +45,9 @@ pub struct RigidBody {
     pub radius: f64,
     /// Coulomb friction against other material at its surface.
     pub friction: f64,
+    /// Rolling resistance against the static colliders: the torque opposing its spin is at most
+    /// this share of the normal force times the radius.
+    pub rolling_resistance: f64,
     /// Total mass.
     pub mass: f64,
     /// Moment of inertia about the centre.
@@ -208,6 +215,11 @@ impl RigidBody {
                 self.velocity[1] += impulse[1] * inverse_mass;
                 self.angular_velocity +=
                     (offset[0] * impulse[1] - offset[1] * impulse[0]) * inverse_inertia;
+                // Rolling resistance: an angular impulse against the spin of at most
+                // `c · j_n · r`, never reversing it.
+                let most = self.rolling_resistance * normal_impulse * self.radius * inverse_inertia;
+                let spin = self.angular_velocity;
+                self.angular_velocity = spin - spin.signum() * most.min(spin.abs());
             }
         }
     }
@@ -253,5 +265,175 @@ impl RigidBodies {
     /// Whether there are none.
     pub(super) fn is_empty(&self) -> bool {
         self.bodies.is_empty()
+    }
+}
+
+/// Adding, coupling and moving the rigid discs of a solver.
+impl Solver {
+    /// Adds a rigid disc of `material` (a [`Material::Rigid`]) and `radius`, centred on the centroid
+    /// of its marker particles at `positions` (each standing for `volume` of the disc: its mass
+    /// and moment of inertia are theirs), moving with `velocity` and `angular_velocity` (rad/s,
+    /// counter-clockwise); returns its index in [`Solver::rigid_bodies`].
+    pub fn add_rigid_body(
+        &mut self,
+        material: usize,
+        radius: f64,
+        positions: &[[f64; 2]],
+        velocity: [f64; 2],
+        angular_velocity: f64,
+        volume: f64,
+    ) -> Result<usize, MpmError> {
+        let (density, friction, rolling_resistance) = match self.materials.get(material) {
+            Some(Material::Rigid(rigid)) => {
+                (rigid.density, rigid.friction, rigid.rolling_resistance)
+            }
+            Some(_) => {
+                return Err(MpmError::RigidBody {
+                    material,
+                    reason: "a rigid body needs a rigid material".to_string(),
+                });
+            }
+            None => {
+                let at = positions.first().copied().unwrap_or([0.0; 2]);
+                return Err(MpmError::UnknownMaterial {
+                    material,
+                    count: self.materials.len(),
+                    x: at[0],
+                    y: at[1],
+                });
+            }
+        };
+        let numbers_finite = [radius, volume, velocity[0], velocity[1], angular_velocity]
+            .iter()
+            .all(|value| value.is_finite());
+        if positions.is_empty() || !numbers_finite || radius <= 0.0 || volume <= 0.0 {
+            return Err(MpmError::RigidBody {
+                material,
+                reason: format!(
+                    "a rigid disc needs markers, a positive radius and volume and finite \
+                     velocities ({} markers, radius {radius}, volume {volume})",
+                    positions.len()
+                ),
+            });
+        }
+        let count = positions.len() as f64;
+        let center = positions.iter().fold([0.0; 2], |sum, position| {
+            [sum[0] + position[0] / count, sum[1] + position[1] / count]
+        });
+        let offsets: Vec<[f64; 2]> = positions
+            .iter()
+            .map(|position| [position[0] - center[0], position[1] - center[1]])
+            .collect();
+        let mass = density * volume;
+        let body = RigidBody {
+            first: self.next_id,
+            inertia: offsets
+                .iter()
+                .map(|offset| mass * (offset[0] * offset[0] + offset[1] * offset[1]))
+                .sum(),
+            mass: mass * count,
+            radius,
+            friction,
+            rolling_resistance,
+            offsets,
+            center,
+            angle: 0.0,
+            velocity,
+            angular_velocity,
+        };
+        for (index, &position) in positions.iter().enumerate() {
+            let mut state = ParticleState::default();
+            body.place(&mut state, index);
+            self.add_any_particle(material, position, state.velocity, volume)?;
+        }
+        self.max_speed = self.max_speed.max(body.top_speed());
+        let index = self.rigid.bodies.len();
+        self.rigid.bodies.push(body);
+        Ok(index)
+    }
+
+    /// The rigid bodies, in order of creation.
+    pub fn rigid_bodies(&self) -> &[RigidBody] {
+        &self.rigid.bodies
+    }
+
+    /// Each rigid disc projects the grid velocities inside it and takes the momentum they lose
+    /// (see [`RigidBody::couple_node`]), then moves ([`RigidBody::advance`]). Discs in order,
+    /// nodes in index order: the same sums for any thread count.
+    pub(super) fn couple_rigid_bodies(&mut self, dt: f64) {
+        let along = blocks_along(&self.grid);
+        let columns = self.grid.nodes[1];
+        let grid = self.grid;
+        let gravity = self.settings.gravity;
+        let colliders = self.colliders.colliders();
+        for body in &mut self.rigid.bodies {
+            let boundary = Boundary::Separate {
+                friction: body.friction,
+            };
+            // The nodes the disc covers, clamped into the grid.
+            let node_range = |axis: usize| {
+                let low = (body.center[axis] - body.radius - grid.origin[axis]) / grid.spacing;
+                let high = (body.center[axis] + body.radius - grid.origin[axis]) / grid.spacing;
+                let last = grid.nodes[axis] - 1;
+                (
+                    grid_index(low.max(0.0)).min(last),
+                    grid_index(high.ceil().max(0.0)).min(last),
+                )
+            };
+            let (rows, cells) = (node_range(0), node_range(1));
+            let mut exchange = ([0.0; 2], 0.0);
+            for i in rows.0..=rows.1 {
+                for j in cells.0..=cells.1 {
+                    // Nodes of blocks no tile reached hold last substep's numbers: skip them.
+                    if !node_is_live(&self.bins.tile_of, along, [i, j]) {
+                        continue;
+                    }
+                    if let Some(node) = self.nodes.get_mut(i * columns + j) {
+                        body.couple_node(node, grid.node_position(i, j), boundary, &mut exchange);
+                    }
+                }
+            }
+            body.advance(exchange, gravity, colliders, dt);
+        }
+    }
+
+    /// The rigid discs' markers are put on their discs' poses, rebinned, checked and counted in
+    /// the speed limits like the rest.
+    pub(super) fn move_rigid_bodies(&mut self, dt: f64) -> Result<(), MpmError> {
+        let step = self.step_constants(dt);
+        let along = blocks_along(&self.grid);
+        let limits = self.position_limits();
+        let mut max_speed_squared = self.max_speed * self.max_speed;
+        let mut max_affine_squared = self.max_affine * self.max_affine;
+        let particles = self
+            .state
+            .iter_mut()
+            .zip(&self.constants)
+            .zip(self.base_of.iter_mut().zip(self.block_of.iter_mut()));
+        for ((particle, constant), (base, block)) in particles {
+            let Some((body, index)) = self.rigid.find(constant.id) else {
+                continue;
+            };
+            if let Some(body) = self.rigid.bodies.get(body) {
+                body.place(particle, index);
+            }
+            if clamp_position(&mut particle.position, limits) {
+                self.counters.clamped += 1;
+            }
+            if !is_finite(particle) {
+                return Err(MpmError::NotFinite {
+                    id: constant.id,
+                    substep: self.counters.substeps,
+                    time: self.time,
+                });
+            }
+            max_speed_squared = max_speed_squared.max(speed_squared(particle));
+            max_affine_squared = max_affine_squared.max(affine_norm_squared(particle));
+            *base = step.base_cell(particle.position);
+            *block = block_key(*base, along);
+        }
+        self.max_speed = max_speed_squared.sqrt();
+        self.max_affine = max_affine_squared.sqrt();
+        Ok(())
     }
 }

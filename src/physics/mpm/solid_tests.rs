@@ -25,6 +25,7 @@ fn solid(youngs_modulus: f64, poisson_ratio: f64, yield_stress: f64) -> Material
 const RIGID: Material = Material::Rigid(RigidMaterial {
     density: 1.0,
     friction: 0.3,
+    rolling_resistance: 0.0,
 });
 
 /// Lattice points at half the grid spacing inside a disc; each stands for `spacing²` of area.
@@ -426,7 +427,7 @@ fn stiff_and_extreme_solids_stay_finite_and_bounded_or_are_typed_errors() {
 }
 
 #[test]
-fn a_ball_wedged_in_a_v_under_another_stays_put_and_finite() {
+fn a_soft_disc_wedged_in_a_v_under_a_rigid_one_stays_put_and_finite() {
     // A soft disc in a 90° V of two walls, a rigid disc dropped on it: both come to rest.
     let wall = |normal: [f64; 2]| Collider {
         shape: Shape::HalfPlane {

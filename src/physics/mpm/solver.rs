@@ -10,19 +10,18 @@
 
 use rayon::prelude::*;
 
-use super::collider::{Boundary, Collider, ColliderGrid};
+use super::collider::{Collider, ColliderGrid};
 use super::elastic::{IDENTITY, Matrix2};
 use super::elastic::{Projection, determinant};
 use super::emitter::Emitter;
 use super::grid::{
     Bins, GridUpdate, block_corner, block_key, blocks_along, index_u32, merge_and_update,
-    node_is_live,
 };
 use super::material::{Material, VOLUME_RATIO_RANGE};
-use super::rigid::{RigidBodies, RigidBody};
+use super::rigid::RigidBodies;
 use super::transfer::{
     ParticleConstants, StepConstants, TILE, affine_norm_squared, clamp_position, gather_particle,
-    grid_index, is_finite, scatter_particle, speed_squared,
+    is_finite, scatter_particle, speed_squared,
 };
 use super::{GridSpec, MpmError};
 
@@ -93,36 +92,36 @@ pub struct WorkCounters {
 /// The MPM solver.
 #[derive(Debug)]
 pub struct Solver {
-    grid: GridSpec,
-    settings: Settings,
-    materials: Vec<Material>,
-    emitters: Vec<Emitter>,
+    pub(super) grid: GridSpec,
+    pub(super) settings: Settings,
+    pub(super) materials: Vec<Material>,
+    pub(super) emitters: Vec<Emitter>,
     /// The colliders, rasterised onto the nodes.
-    colliders: ColliderGrid,
-    state: Vec<ParticleState>,
-    constants: Vec<ParticleConstants>,
+    pub(super) colliders: ColliderGrid,
+    pub(super) state: Vec<ParticleState>,
+    pub(super) constants: Vec<ParticleConstants>,
     /// Where the scatter writes the particles in their new order when binning reorders them;
     /// swapped with `state` and `constants` after it.
-    spare_state: Vec<ParticleState>,
-    spare_constants: Vec<ParticleConstants>,
-    nodes: Vec<[f64; 3]>,
+    pub(super) spare_state: Vec<ParticleState>,
+    pub(super) spare_constants: Vec<ParticleConstants>,
+    pub(super) nodes: Vec<[f64; 3]>,
     /// One tile per non-empty block, in block order.
-    tiles: Vec<[f64; 3]>,
+    pub(super) tiles: Vec<[f64; 3]>,
     /// Each particle's block, from its position at the end of the last substep.
-    block_of: Vec<u32>,
+    pub(super) block_of: Vec<u32>,
     /// Each particle's stencil base node, from the same position (see
     /// [`StepConstants::base_cell`]); kept in the particles' order like `state`.
-    base_of: Vec<[u32; 2]>,
-    spare_base: Vec<[u32; 2]>,
-    bins: Bins,
-    time: f64,
-    next_id: u32,
+    pub(super) base_of: Vec<[u32; 2]>,
+    pub(super) spare_base: Vec<[u32; 2]>,
+    pub(super) bins: Bins,
+    pub(super) time: f64,
+    pub(super) next_id: u32,
     /// Largest particle speed and APIC norm after the last gather (for the stable step).
-    max_speed: f64,
-    max_affine: f64,
-    counters: WorkCounters,
-    rigid: RigidBodies,
-    pool: std::sync::Arc<rayon::ThreadPool>,
+    pub(super) max_speed: f64,
+    pub(super) max_affine: f64,
+    pub(super) counters: WorkCounters,
+    pub(super) rigid: RigidBodies,
+    pub(super) pool: std::sync::Arc<rayon::ThreadPool>,
 }
 
 impl Solver {
@@ -208,91 +207,7 @@ impl Solver {
         self.add_any_particle(material, position, velocity, volume)
     }
 
-    /// Adds a rigid disc of `material` (a [`Material::Rigid`]) and `radius`, centred on the centroid
-    /// of its marker particles at `positions` (each standing for `volume` of the disc: its mass
-    /// and moment of inertia are theirs), moving with `velocity` and `angular_velocity` (rad/s,
-    /// counter-clockwise); returns its index in [`Solver::rigid_bodies`].
-    pub fn add_rigid_body(
-        &mut self,
-        material: usize,
-        radius: f64,
-        positions: &[[f64; 2]],
-        velocity: [f64; 2],
-        angular_velocity: f64,
-        volume: f64,
-    ) -> Result<usize, MpmError> {
-        let (density, friction) = match self.materials.get(material) {
-            Some(Material::Rigid(rigid)) => (rigid.density, rigid.friction),
-            Some(_) => {
-                return Err(MpmError::RigidBody {
-                    material,
-                    reason: "a rigid body needs a rigid material".to_string(),
-                });
-            }
-            None => {
-                let at = positions.first().copied().unwrap_or([0.0; 2]);
-                return Err(MpmError::UnknownMaterial {
-                    material,
-                    count: self.materials.len(),
-                    x: at[0],
-                    y: at[1],
-                });
-            }
-        };
-        let numbers_finite = [radius, volume, velocity[0], velocity[1], angular_velocity]
-            .iter()
-            .all(|value| value.is_finite());
-        if positions.is_empty() || !numbers_finite || radius <= 0.0 || volume <= 0.0 {
-            return Err(MpmError::RigidBody {
-                material,
-                reason: format!(
-                    "a rigid disc needs markers, a positive radius and volume and finite \
-                     velocities ({} markers, radius {radius}, volume {volume})",
-                    positions.len()
-                ),
-            });
-        }
-        let count = positions.len() as f64;
-        let center = positions.iter().fold([0.0; 2], |sum, position| {
-            [sum[0] + position[0] / count, sum[1] + position[1] / count]
-        });
-        let offsets: Vec<[f64; 2]> = positions
-            .iter()
-            .map(|position| [position[0] - center[0], position[1] - center[1]])
-            .collect();
-        let mass = density * volume;
-        let body = RigidBody {
-            first: self.next_id,
-            inertia: offsets
-                .iter()
-                .map(|offset| mass * (offset[0] * offset[0] + offset[1] * offset[1]))
-                .sum(),
-            mass: mass * count,
-            radius,
-            friction,
-            offsets,
-            center,
-            angle: 0.0,
-            velocity,
-            angular_velocity,
-        };
-        for (index, &position) in positions.iter().enumerate() {
-            let mut state = ParticleState::default();
-            body.place(&mut state, index);
-            self.add_any_particle(material, position, state.velocity, volume)?;
-        }
-        self.max_speed = self.max_speed.max(body.top_speed());
-        let index = self.rigid.bodies.len();
-        self.rigid.bodies.push(body);
-        Ok(index)
-    }
-
-    /// The rigid bodies, in order of creation.
-    pub fn rigid_bodies(&self) -> &[RigidBody] {
-        &self.rigid.bodies
-    }
-
-    fn add_any_particle(
+    pub(super) fn add_any_particle(
         &mut self,
         material: usize,
         position: [f64; 2],
@@ -724,87 +639,7 @@ impl Solver {
         Ok(())
     }
 
-    /// Each rigid disc projects the grid velocities inside it and takes the momentum they lose
-    /// (see [`RigidBody::couple_node`]), then moves ([`RigidBody::advance`]). Discs in order,
-    /// nodes in index order: the same sums for any thread count.
-    fn couple_rigid_bodies(&mut self, dt: f64) {
-        let along = blocks_along(&self.grid);
-        let columns = self.grid.nodes[1];
-        let grid = self.grid;
-        let gravity = self.settings.gravity;
-        let colliders = self.colliders.colliders();
-        for body in &mut self.rigid.bodies {
-            let boundary = Boundary::Separate {
-                friction: body.friction,
-            };
-            // The nodes the disc covers, clamped into the grid.
-            let node_range = |axis: usize| {
-                let low = (body.center[axis] - body.radius - grid.origin[axis]) / grid.spacing;
-                let high = (body.center[axis] + body.radius - grid.origin[axis]) / grid.spacing;
-                let last = grid.nodes[axis] - 1;
-                (
-                    grid_index(low.max(0.0)).min(last),
-                    grid_index(high.ceil().max(0.0)).min(last),
-                )
-            };
-            let (rows, cells) = (node_range(0), node_range(1));
-            let mut exchange = ([0.0; 2], 0.0);
-            for i in rows.0..=rows.1 {
-                for j in cells.0..=cells.1 {
-                    // Nodes of blocks no tile reached hold last substep's numbers: skip them.
-                    if !node_is_live(&self.bins.tile_of, along, [i, j]) {
-                        continue;
-                    }
-                    if let Some(node) = self.nodes.get_mut(i * columns + j) {
-                        body.couple_node(node, grid.node_position(i, j), boundary, &mut exchange);
-                    }
-                }
-            }
-            body.advance(exchange, gravity, colliders, dt);
-        }
-    }
-
-    /// The rigid discs' markers are put on their discs' poses, rebinned, checked and counted in
-    /// the speed limits like the rest.
-    fn move_rigid_bodies(&mut self, dt: f64) -> Result<(), MpmError> {
-        let step = self.step_constants(dt);
-        let along = blocks_along(&self.grid);
-        let limits = self.position_limits();
-        let mut max_speed_squared = self.max_speed * self.max_speed;
-        let mut max_affine_squared = self.max_affine * self.max_affine;
-        let particles = self
-            .state
-            .iter_mut()
-            .zip(&self.constants)
-            .zip(self.base_of.iter_mut().zip(self.block_of.iter_mut()));
-        for ((particle, constant), (base, block)) in particles {
-            let Some((body, index)) = self.rigid.find(constant.id) else {
-                continue;
-            };
-            if let Some(body) = self.rigid.bodies.get(body) {
-                body.place(particle, index);
-            }
-            if clamp_position(&mut particle.position, limits) {
-                self.counters.clamped += 1;
-            }
-            if !is_finite(particle) {
-                return Err(MpmError::NotFinite {
-                    id: constant.id,
-                    substep: self.counters.substeps,
-                    time: self.time,
-                });
-            }
-            max_speed_squared = max_speed_squared.max(speed_squared(particle));
-            max_affine_squared = max_affine_squared.max(affine_norm_squared(particle));
-            *base = step.base_cell(particle.position);
-            *block = block_key(*base, along);
-        }
-        self.max_speed = max_speed_squared.sqrt();
-        self.max_affine = max_affine_squared.sqrt();
-        Ok(())
-    }
-
-    fn step_constants(&self, dt: f64) -> StepConstants {
+    pub(super) fn step_constants(&self, dt: f64) -> StepConstants {
         StepConstants {
             origin: self.grid.origin,
             dx: self.grid.spacing,
@@ -816,7 +651,7 @@ impl Solver {
     /// Positions stay within `[dx/2, (n − 3/2)·dx)` of the origin: the widest range whose 3 × 3
     /// stencil (`base = ⌊x/dx − 1/2⌋ ∈ [0, n − 3]`) stays in the grid. A narrower range would move
     /// particles a healthy run leaves alone (Taichi's mpm88 lets them reach `126.03·dx` of 128).
-    fn position_limits(&self) -> [[f64; 2]; 2] {
+    pub(super) fn position_limits(&self) -> [[f64; 2]; 2] {
         let dx = self.grid.spacing;
         // The margin keeps `⌊x/dx − 1/2⌋` below `n − 2` after rounding of the division.
         let high_cells = |nodes: usize| nodes as f64 - 1.5 - STENCIL_MARGIN;

@@ -47,42 +47,13 @@ impl Slab {
 
     /// The signed distance of `point` (its x and y) to the slab and the outward normal there.
     pub fn contact(&self, point: Vector) -> Contact {
-        let (centre, along, half_length, half_thickness) = self.frame();
-        let across = [-along[1], along[0]];
-        let relative = [point[0] - centre[0], point[1] - centre[1]];
-        let local = [
-            relative[0] * along[0] + relative[1] * along[1],
-            relative[0] * across[0] + relative[1] * across[1],
-        ];
-        let sign = |v: f64| if v < 0.0 { -1.0 } else { 1.0 };
-        let excess = [
-            local[0].abs() - half_length,
-            local[1].abs() - half_thickness,
-        ];
-        let (distance, local_normal) = if excess[0] > 0.0 || excess[1] > 0.0 {
-            // Outside: the distance to the nearest point of the rectangle.
-            let outside = [excess[0].max(0.0), excess[1].max(0.0)];
-            let distance = outside[0].hypot(outside[1]);
-            (
-                distance,
-                [
-                    sign(local[0]) * outside[0] / distance,
-                    sign(local[1]) * outside[1] / distance,
-                ],
-            )
-        } else if excess[0] > excess[1] {
-            // Inside, nearer an end face.
-            (excess[0], [sign(local[0]), 0.0])
-        } else {
-            (excess[1], [0.0, sign(local[1])])
-        };
-        Contact {
-            distance,
-            normal: [
-                local_normal[0] * along[0] + local_normal[1] * across[0],
-                local_normal[0] * along[1] + local_normal[1] * across[1],
-            ],
-        }
+        let (distance, normal) = crate::physics::slab::signed_distance(
+            [point[0], point[1]],
+            self.start,
+            self.end,
+            self.thickness,
+        );
+        Contact { distance, normal }
     }
 
     /// The slab's four corners, counter-clockwise (for drawing).

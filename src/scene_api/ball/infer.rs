@@ -158,10 +158,11 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
             FourDData::load(&video.outputs_4d_json())?,
         ));
     }
-    let sweeps: Vec<Value> = noise_levels
+    let sweeps = noise_levels
         .iter()
-        .map(|&noise| {
+        .map(|&noise| -> Result<Value, ApiError> {
             let mut counts = [[0_u64; 3]; 3];
+            let mut fitted_counts = [[0_u64; 3]; 3];
             let mut per_video = Vec::new();
             for (id, annotation, tracked) in &loaded {
                 let mut four_d = tracked.clone();
@@ -179,55 +180,89 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
                 let names: Vec<String> =
                     annotation.layout.balls.iter().map(|b| b.name.clone()).collect();
                 let readings = read_materials(&four_d, &names);
-                for (reading, ball) in readings.iter().zip(&annotation.layout.balls) {
+                let fitted = fitted_materials(annotation, &four_d, &readings)?;
+                for ((reading, ball), fit) in readings
+                    .iter()
+                    .zip(&annotation.layout.balls)
+                    .zip(&fitted)
+                {
                     let row = ElasticityType::ALL
                         .iter()
                         .position(|kind| *kind == ball.elasticity)
                         .unwrap_or(0);
-                    let column = match reading.material {
+                    let column = |read: Option<ElasticityType>| match read {
                         Some(kind) if kind == ball.elasticity => 0,
                         Some(_) => 1,
                         None => 2,
                     };
-                    counts[row][column] += 1;
+                    counts[row][column(reading.material)] += 1;
+                    fitted_counts[row][column(*fit)] += 1;
                 }
                 per_video.push(json!({
                     "video": id,
-                    "balls": readings.iter().zip(&annotation.layout.balls).map(|(reading, ball)| json!({
+                    "balls": readings.iter().zip(&annotation.layout.balls).enumerate().map(|(index, (reading, ball))| json!({
                         "ball": reading.ball,
                         "truth": ball.elasticity.as_str(),
                         "read": reading.material.map(ElasticityType::as_str),
+                        "fitted": fitted.get(index).copied().flatten().map(ElasticityType::as_str),
                         "peak_strain": (reading.peak_strain * 1e4).round() / 1e4,
                         "lasting_strain": (reading.lasting_strain * 1e4).round() / 1e4,
                     })).collect::<Vec<_>>(),
                 }));
             }
-            let per_material: serde_json::Map<String, Value> = ElasticityType::ALL
-                .iter()
-                .zip(counts)
-                .map(|(kind, [right, wrong, undecided])| {
-                    (
-                        kind.as_str().to_string(),
-                        json!({"right": right, "wrong": wrong, "undecided": undecided}),
-                    )
-                })
-                .collect();
-            json!({
+            let table = |counts: [[u64; 3]; 3]| -> serde_json::Map<String, Value> {
+                ElasticityType::ALL
+                    .iter()
+                    .zip(counts)
+                    .map(|(kind, [right, wrong, undecided])| {
+                        (
+                            kind.as_str().to_string(),
+                            json!({"right": right, "wrong": wrong, "undecided": undecided}),
+                        )
+                    })
+                    .collect()
+            };
+            let per_material = table(counts);
+            let after_fit = table(fitted_counts);
+            Ok(json!({
                 "bench": "inference",
                 "scenario": "ball",
-                "what": "each ball's material (elastic, rigid, plastic) read from the strain of its tracked particles, against the annotations",
+                "what": "each ball's material (elastic, rigid, plastic) read from the strain of its tracked particles, and after the simulation fit decides the balls the strain does not (--dynamics simulate), against the annotations",
                 "track_noise_sd": noise,
                 "videos": loaded.len(),
                 "per_material": per_material,
+                "after_simulation_fit": after_fit,
                 "per_video": per_video,
-            })
+            }))
         })
-        .collect();
+        .collect::<Result<Vec<Value>, ApiError>>()?;
     Ok(if let [only] = sweeps.as_slice() {
         only.clone()
     } else {
         json!({"bench": "inference", "scenario": "ball", "sweeps": sweeps})
     })
+}
+
+/// The materials `--dynamics simulate` uses: the strain readings, and for the balls they do not
+/// decide, the simulation fit's choice ([`super::runs::fit_materials`]).
+fn fitted_materials(
+    annotation: &BallAnnotation,
+    four_d: &FourDData,
+    readings: &[MaterialReading],
+) -> Result<Vec<Option<ElasticityType>>, ApiError> {
+    let mut balls = Vec::new();
+    for (ball, reading) in annotation.layout.balls.iter().zip(readings) {
+        let seen = four_d.soft_bodies.get(&ball.name).and_then(|track| {
+            super::runs::SeenBall::from_track(&ball.name, reading.material, &track.particles)
+        });
+        match seen {
+            Some(seen) => balls.push(seen),
+            None => return Ok(readings.iter().map(|reading| reading.material).collect()),
+        }
+    }
+    let stadium = super::simulate::Stadium::from_layout(&annotation.layout);
+    super::runs::fit_materials(&stadium, &mut balls, &super::simulate::BallModel::default())?;
+    Ok(balls.iter().map(|ball| ball.material).collect())
 }
 
 #[cfg(test)]

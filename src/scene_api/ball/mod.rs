@@ -1,10 +1,13 @@
 //! The ball scene (`soft_body`): objects from the annotation's layout; materials and pit
 //! outcomes from its records (`--dynamics annotation`, the paper's offline mode).
 //!
-//! Input: a video's `outputs.json` ([`BallAnnotation`]). Output: the scene's objects and the
-//! answers of `query`, `register_event` and `happen` (`docs/data/ball.md`). Ball dynamics are
-//! not simulated and ball videos are not read from pixels in this version: `--dynamics
-//! simulate` and `--perception maskrcnn` say so (`ApiError::Unavailable`).
+//! Input: a video's `outputs.json` ([`BallAnnotation`]); under `--dynamics simulate` also its
+//! tracked particles (`outputs4D.json`). Output: the scene's objects and the answers of `query`,
+//! `register_event` and `happen` (`docs/data/ball.md`). Under `--dynamics simulate` the
+//! materials are read from the tracked particles ([`infer`]) and the runs are simulated
+//! ([`simulate`], made on first use by `runs`); the annotation gives only the layout. Ball
+//! videos are not read from pixels in this version: `--perception maskrcnn` says so
+//! (`ApiError::Unavailable`).
 //!
 //! Objects, in this order: the balls (`Red Ball`), the floating walls (`White Floating Wall`),
 //! the ramps (`Right Ramp`, `Left Ramp`: kind `ramp`, their colour, `side` right or left), then
@@ -25,13 +28,22 @@
 //!   (observed in the video or after it).
 
 pub mod infer;
+pub(crate) mod physics_bench;
+mod runs;
+pub mod simulate;
 #[cfg(test)]
 mod tests;
 
-use crate::dataset::Scenario;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use runs::{BallRuns, RunKey, SeenBall};
+use simulate::{BallModel, Stadium};
+
 use crate::dataset::ball::names::parse_ball_object_name;
 use crate::dataset::ball::outcome::{Pit, PitRecord};
 use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
+use crate::dataset::{FourDData, Scenario};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
@@ -50,23 +62,21 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
                 .to_string(),
         ));
     }
-    if spec.dynamics == DynamicsBackend::Simulate {
-        return Err(ApiError::Unavailable(
-            "ball dynamics are not simulated in this version: use --dynamics annotation"
-                .to_string(),
-        ));
-    }
     let annotation = BallAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-    Ok(Box::new(BallBackend::new(annotation)))
+    let mut backend = BallBackend::new(annotation);
+    if spec.dynamics == DynamicsBackend::Simulate {
+        backend.simulate_from = Some(spec.video_dir.clone());
+    }
+    Ok(Box::new(backend))
 }
 
 /// What an object of the scene stands for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Role {
-    /// A ball and its material.
-    Ball(ElasticityType),
-    /// A floating wall.
-    Wall,
+    /// A ball, its material in the annotation and its index among the balls.
+    Ball(ElasticityType, usize),
+    /// A floating wall and its index among the floating walls.
+    Wall(usize),
     /// A ramp, on the side of this pit.
     Ramp(Pit),
     /// A pit.
@@ -78,6 +88,11 @@ pub(crate) struct BallBackend {
     annotation: BallAnnotation,
     objects: Vec<SceneObjectInfo>,
     roles: Vec<Role>,
+    /// The video folder under `--dynamics simulate` (its tracked particles are read on first
+    /// use); `None` answers from the annotation.
+    simulate_from: Option<PathBuf>,
+    /// The simulated runs, set up on first use.
+    runs: OnceLock<Result<BallRuns, ApiError>>,
 }
 
 /// The run an event starts.
@@ -94,18 +109,18 @@ impl BallBackend {
     pub(crate) fn new(annotation: BallAnnotation) -> BallBackend {
         let mut named: Vec<(String, String, Role)> = Vec::new();
         let color_of = |name: &str| parse_ball_object_name(name).and_then(|parsed| parsed.color);
-        for ball in &annotation.layout.balls {
+        for (index, ball) in annotation.layout.balls.iter().enumerate() {
             if let Some(color) = color_of(&ball.name) {
                 named.push((
                     ball.name.clone(),
                     color.to_string(),
-                    Role::Ball(ball.elasticity),
+                    Role::Ball(ball.elasticity, index),
                 ));
             }
         }
-        for wall in &annotation.layout.floating_walls {
+        for (index, wall) in annotation.layout.floating_walls.iter().enumerate() {
             if let Some(color) = color_of(&wall.name) {
-                named.push((wall.name.clone(), color.to_string(), Role::Wall));
+                named.push((wall.name.clone(), color.to_string(), Role::Wall(index)));
             }
         }
         for ramp in &annotation.layout.ramps {
@@ -132,8 +147,8 @@ impl BallBackend {
             .map(|(index, (name, color, role))| {
                 let side = |pit: Pit| vec![(SIDE, pit.word().to_string())];
                 let (kind, attributes) = match role {
-                    Role::Ball(_) => ("ball", Vec::new()),
-                    Role::Wall => ("floating wall", Vec::new()),
+                    Role::Ball(..) => ("ball", Vec::new()),
+                    Role::Wall(_) => ("floating wall", Vec::new()),
                     Role::Ramp(pit) => ("ramp", side(pit)),
                     Role::Pit(pit) => ("pit", side(pit)),
                 };
@@ -152,7 +167,75 @@ impl BallBackend {
             annotation,
             objects,
             roles,
+            simulate_from: None,
+            runs: OnceLock::new(),
         }
+    }
+
+    /// The simulated runs (`--dynamics simulate`), set up on first use: the stadium from the
+    /// layout, each ball's motion and material from its tracked particles.
+    fn simulated_runs(&self, folder: &std::path::Path) -> Result<&BallRuns, ApiError> {
+        self.runs
+            .get_or_init(|| {
+                let path = folder.join("outputs4D.json");
+                let four_d = FourDData::load(&path).map_err(|error| {
+                    ApiError::Unavailable(format!(
+                        "--dynamics simulate reads the balls' tracked particles: {error}"
+                    ))
+                })?;
+                let names: Vec<String> = self
+                    .annotation
+                    .layout
+                    .balls
+                    .iter()
+                    .map(|ball| ball.name.clone())
+                    .collect();
+                let readings = infer::read_materials(&four_d, &names);
+                let mut balls = Vec::with_capacity(names.len());
+                for (name, reading) in names.iter().zip(readings) {
+                    let track = four_d.soft_bodies.get(name).ok_or_else(|| {
+                        ApiError::Unavailable(format!(
+                            "{} has no tracked particles for the {}",
+                            path.display(),
+                            name.to_lowercase()
+                        ))
+                    })?;
+                    let seen = SeenBall::from_track(name, reading.material, &track.particles)
+                        .ok_or_else(|| {
+                            ApiError::Unavailable(format!(
+                                "the {} is tracked in fewer than two frames",
+                                name.to_lowercase()
+                            ))
+                        })?;
+                    balls.push(seen);
+                }
+                let stadium = Stadium::from_layout(&self.annotation.layout);
+                let model = BallModel::default();
+                let work = runs::fit_materials(&stadium, &mut balls, &model)?;
+                Ok(BallRuns::new(stadium, balls, model, work))
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// The material `query` compares for ball `index`: the annotation's, or under `--dynamics
+    /// simulate` the one read from the tracked particles.
+    fn material_of(
+        &self,
+        recorded: ElasticityType,
+        index: usize,
+        object: &SceneObjectInfo,
+    ) -> Result<ElasticityType, ApiError> {
+        let Some(folder) = &self.simulate_from else {
+            return Ok(recorded);
+        };
+        let runs = self.simulated_runs(folder)?;
+        runs.material(index).ok_or_else(|| {
+            ApiError::Unavailable(format!(
+                "the video does not tell the {}'s material",
+                object.describe()
+            ))
+        })
     }
 
     fn info(&self, id: ObjectId, function: &str) -> Result<&SceneObjectInfo, ApiError> {
@@ -315,14 +398,14 @@ impl ScenarioBackend for BallBackend {
         let mut materials = Vec::with_capacity(objects.len());
         for id in objects {
             let object = self.info(*id, function)?;
-            let Some(Role::Ball(material)) = self.role(object) else {
+            let Some(Role::Ball(recorded, index)) = self.role(object) else {
                 return Err(misuse(format!(
                     "{function}: {} is a property of balls, not of the {}",
                     property.name(),
                     object.describe()
                 )));
             };
-            materials.push(material);
+            materials.push(self.material_of(recorded, index, object)?);
         }
         let high: Vec<bool> = materials
             .iter()
@@ -339,6 +422,13 @@ impl ScenarioBackend for BallBackend {
             .into_iter()
             .map(|high| Some(if high { 1.0 } else { 0.0 }))
             .collect())
+    }
+
+    fn simulation_work(&self) -> (u64, u64) {
+        match self.runs.get() {
+            Some(Ok(runs)) => runs.work(),
+            _ => (0, 0),
+        }
     }
 
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
@@ -368,12 +458,12 @@ impl ScenarioBackend for BallBackend {
                 )));
             }
         }
-        if !matches!(self.role(subject), Some(Role::Ball(_))) {
+        let Some(Role::Ball(_, ball_index)) = self.role(subject) else {
             return Err(misuse(format!(
                 "happen: only balls drop into pits; ask about a ball, not the {}",
                 subject.describe()
             )));
-        }
+        };
         let ids = match target {
             Target::Objects(ids) => ids.clone(),
             Target::Text(text) if text.trim().is_empty() => {
@@ -388,6 +478,19 @@ impl ScenarioBackend for BallBackend {
             return Err(misuse("happen: 'droping' takes a pit"));
         };
         let run = self.event_run(event, "happen")?;
+        if let Some(folder) = &self.simulate_from {
+            let key = match run {
+                Run::Factual => RunKey::Factual,
+                Run::Without(wall) => match self.role(wall) {
+                    Some(Role::Wall(wall)) => RunKey::Without {
+                        wall,
+                        ball: ball_index,
+                    },
+                    _ => return Err(misuse("happen: 'remove' takes a floating wall")),
+                },
+            };
+            return Ok(self.simulated_runs(folder)?.pit(key, ball_index)? == Some(side));
+        }
         Ok(self.record(run, subject)?.result.pit() == Some(side))
     }
 }

@@ -201,12 +201,20 @@ fn drops_are_read_from_the_run_the_event_starts() {
 }
 
 #[test]
-fn simulate_and_pixels_say_they_are_not_built() {
+fn simulate_reads_the_tracked_particles_only_when_a_question_needs_them() {
+    // The hand fixture has no outputs4D.json: objects come from the layout, and the first
+    // question that needs a material or a run says what is missing.
     let simulate = open(PerceptionBackend::Annotation, DynamicsBackend::Simulate);
-    let error = simulate.find("ball").unwrap_err();
+    let balls = simulate.find("ball").unwrap();
+    assert_eq!(balls.len(), 3);
+    let error = simulate
+        .query_pair("elasticity", balls[0], balls[1])
+        .unwrap_err();
     assert!(matches!(error, ApiError::Unavailable(_)), "{error:?}");
     assert!(
-        error.to_string().contains("--dynamics annotation"),
+        error.to_string().contains("tracked particles")
+            && error.to_string().contains("outputs4D.json"),
         "{error}"
     );
+    assert_eq!(simulate.work().sim_runs, 0);
 }

@@ -2,15 +2,14 @@
 //! all three balls, captured for the video and continued until every ball has dropped or
 //! settled, and the counterfactual runs with one floating wall and the other two balls removed.
 //!
-//! A run ends at [`MAX_UPDATES`], or once every simulated ball has dropped below
-//! [`GONE_HEIGHT`] or lies still (its centre within [`REST_DISTANCE`] of where it was
-//! [`REST_UPDATES`] updates before). The release ran on until the balls dropped or to update
+//! A run ends at [`MAX_UPDATES`], or once every simulated ball has dropped out of the stadium or
+//! lies still ([`track_finished`]). The release ran on until the balls dropped or to update
 //! 2000; a ball lying still in a static scene never moves again, so its label is the same and
 //! the rest of the run is skipped.
 
 use crate::dataset::ball::ElasticityType;
 use crate::dataset::ball::outcome::{
-    CAPTURE_UPDATES, GONE_HEIGHT, MAX_UPDATES, PitRecord, RunMode, label_ball,
+    CAPTURE_UPDATES, MAX_UPDATES, PitRecord, RunMode, label_ball, track_finished,
 };
 use crate::physics::shape_matching::{
     ELASTIC, PLASTIC, RIGID, Slab, SoftBodyError, SoftBodyParameters, SoftBodyWorld, SoftMaterial,
@@ -19,10 +18,6 @@ use crate::physics::shape_matching::{
 
 use super::layout::{BALL_RADIUS, Layout};
 
-/// Updates over which a ball that moved less than [`REST_DISTANCE`] lies still.
-pub const REST_UPDATES: usize = 60;
-/// See [`REST_UPDATES`], units.
-pub const REST_DISTANCE: f64 = 0.01;
 /// Each ball's mass, kg (the release's balls are one prefab size; equal masses).
 const BALL_MASS: f64 = 1.0;
 
@@ -138,7 +133,7 @@ pub fn run(layout: &Layout, kind: RunKind) -> Result<BallRun, SoftBodyError> {
             );
         }
         let captured = mode == RunMode::Counterfactual || updates >= CAPTURE_UPDATES;
-        if captured && centres.iter().all(|track| finished(track)) {
+        if captured && centres.iter().all(|track| track_finished(track)) {
             break;
         }
     }
@@ -152,18 +147,4 @@ pub fn run(layout: &Layout, kind: RunKind) -> Result<BallRun, SoftBodyError> {
         frames,
         updates,
     })
-}
-
-/// Whether a ball's track has ended: dropped out of the stadium, or still for a while.
-fn finished(track: &[[f64; 2]]) -> bool {
-    let Some(last) = track.last() else {
-        return true;
-    };
-    if last[1] < GONE_HEIGHT {
-        return true;
-    }
-    track.len() > REST_UPDATES
-        && track
-            .get(track.len() - 1 - REST_UPDATES)
-            .is_some_and(|before| (last[0] - before[0]).hypot(last[1] - before[1]) < REST_DISTANCE)
 }
