@@ -7,7 +7,7 @@
 //! their own scenes). Output: [`BenchCase`]s; the sweep, the timing and the report are shared
 //! (`app`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Why a benchmark case could not be built or run.
 #[derive(Debug, thiserror::Error)]
@@ -17,6 +17,27 @@ pub struct BenchError {
     pub case: String,
     /// What failed.
     pub message: String,
+}
+
+impl BenchError {
+    /// The error of `case`.
+    pub fn new(case: &str, message: impl std::fmt::Display) -> BenchError {
+        BenchError {
+            case: case.to_string(),
+            message: message.to_string(),
+        }
+    }
+}
+
+/// A video's name in case names: the last two components of its folder (`fluid_slides/0`).
+pub fn video_name(video: &Path) -> String {
+    let parts: Vec<String> = video
+        .components()
+        .rev()
+        .take(2)
+        .map(|part| part.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    parts.into_iter().rev().collect::<Vec<_>>().join("/")
 }
 
 /// A sweep point: one value per parameter of the benchmark, in the order of

@@ -639,6 +639,33 @@ fn no_real_frame_is_in_any_training_set() {
     );
 }
 
+/// Checks a model's list of training videos: each from a folder starting with one of
+/// `folders`, with an `outputs.json` SHA-256 not among `excluded`; returns how many it lists.
+fn assert_training_videos(
+    model: &str,
+    listed: &serde_json::Value,
+    folders: &[&str],
+    excluded: &[String],
+) -> usize {
+    let listed = listed
+        .as_array()
+        .unwrap_or_else(|| panic!("{model}: no list"));
+    for video in listed {
+        let folder = video["video"].as_str().unwrap();
+        assert!(
+            folders.iter().any(|prefix| folder.starts_with(prefix)),
+            "{model}: {folder}"
+        );
+        let hash = video["outputs_sha256"].as_str().unwrap();
+        assert_eq!(hash.len(), 64, "{model}: {video}");
+        assert!(
+            !excluded.iter().any(|other| other == hash),
+            "{model} learnt from a held-out video: {video}"
+        );
+    }
+    listed.len()
+}
+
 #[test]
 fn the_fluid_models_learnt_from_their_training_seeds_only() {
     // The fluid detector and colour model list the generated videos they learnt from; every
@@ -670,28 +697,16 @@ fn the_fluid_models_learnt_from_their_training_seeds_only() {
         ),
         ("color-model-fluid.json", &colors["training_videos"], 36),
     ] {
-        let listed = listed
-            .as_array()
-            .unwrap_or_else(|| panic!("{model}: no list"));
-        assert!(
-            listed.len() >= least,
-            "{model}: {} training videos",
-            listed.len()
+        let count = assert_training_videos(
+            model,
+            listed,
+            &[
+                "fluid-train-rand/fluid_slides/",
+                "fluid-train-rel/fluid_slides/",
+            ],
+            &demo,
         );
-        for video in listed {
-            let folder = video["video"].as_str().unwrap();
-            assert!(
-                folder.starts_with("fluid-train-rand/fluid_slides/")
-                    || folder.starts_with("fluid-train-rel/fluid_slides/"),
-                "{model}: {folder}"
-            );
-            let hash = video["outputs_sha256"].as_str().unwrap();
-            assert_eq!(hash.len(), 64, "{model}: {video}");
-            assert!(
-                !demo.iter().any(|d| d == hash),
-                "{model} learnt from a demo video: {video}"
-            );
-        }
+        assert!(count >= least, "{model}: {count} training videos");
     }
     let classes: Vec<&str> = detector["classes"]
         .as_object()
@@ -720,22 +735,13 @@ fn the_ball_detector_learnt_from_its_training_seeds_only() {
     let detector: serde_json::Value =
         serde_json::from_slice(&fs_err::read(root.join("models/maskrcnn-ball.json")).unwrap())
             .unwrap();
-    let listed = detector["data"]["training_videos"].as_array().unwrap();
-    assert_eq!(listed.len(), 36);
-    for video in listed {
-        let folder = video["video"].as_str().unwrap();
-        assert!(
-            folder.starts_with("ball-train-rand/soft_body/")
-                || folder.starts_with("ball-train-rel/soft_body/"),
-            "{folder}"
-        );
-        let hash = video["outputs_sha256"].as_str().unwrap();
-        assert_eq!(hash.len(), 64, "{video}");
-        assert!(
-            !excluded.iter().any(|other| other == hash),
-            "the ball detector learnt from a held-out video: {video}"
-        );
-    }
+    let count = assert_training_videos(
+        "maskrcnn-ball.json",
+        &detector["data"]["training_videos"],
+        &["ball-train-rand/soft_body/", "ball-train-rel/soft_body/"],
+        &excluded,
+    );
+    assert_eq!(count, 36);
     let classes: Vec<&str> = detector["classes"]
         .as_object()
         .unwrap()

@@ -133,21 +133,29 @@ pub enum RunMode {
     Counterfactual,
 }
 
+/// Where and at which update a ball first dropped into a pit: the pit under its centre the
+/// first time the centre is below [`FALL_HEIGHT`], and that centre's index plus one
+/// (`centres[k]` is after update `k + 1`, as `(x, y)`); `None` if it never did.
+pub fn first_drop(centres: &[[f64; 2]]) -> Option<(Pit, usize)> {
+    centres
+        .iter()
+        .position(|centre| centre[1] < FALL_HEIGHT)
+        .and_then(|index| {
+            centres
+                .get(index)
+                .map(|centre| (Pit::at(centre[0]), index + 1))
+        })
+}
+
 /// Labels one ball from its centre after each update (`centres[k]` after update `k + 1`, as
 /// `(x, y)`).
 pub fn label_ball(centres: &[[f64; 2]], mode: RunMode) -> PitRecord {
-    let Some((index, centre)) = centres
-        .iter()
-        .enumerate()
-        .find(|(_, centre)| centre[1] < FALL_HEIGHT)
-    else {
+    let Some((pit, update)) = first_drop(centres) else {
         return PitRecord {
             result: PitResult::NoPit,
             frame: 0,
         };
     };
-    let update = index + 1;
-    let pit = Pit::at(centre[0]);
     let result = if mode == RunMode::Factual && update > CAPTURE_UPDATES {
         PitResult::ToPredict(pit)
     } else {

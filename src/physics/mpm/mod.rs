@@ -132,6 +132,30 @@ pub enum MpmError {
     ThreadPool(String),
 }
 
+/// Lattice points `spacing` apart (offset by half a spacing from `centre`, so no point sits on
+/// it) inside the disc of `radius` about `centre`: the particles of a disc of material, each
+/// standing for `spacing²` of area.
+pub fn disc_lattice(centre: [f64; 2], radius: f64, spacing: f64) -> Vec<[f64; 2]> {
+    if !(spacing > 0.0 && radius > 0.0 && (radius / spacing).is_finite()) {
+        return Vec::new();
+    }
+    #[expect(
+        clippy::cast_possible_truncation,
+        reason = "a positive, finite ratio; a disc spans a modest count of lattice sites"
+    )]
+    let reach = (radius / spacing).ceil() as i64;
+    let mut points = Vec::new();
+    for i in -reach..=reach {
+        for j in -reach..=reach {
+            let offset = [(i as f64 + 0.5) * spacing, (j as f64 + 0.5) * spacing];
+            if offset[0].hypot(offset[1]) < radius {
+                points.push([centre[0] + offset[0], centre[1] + offset[1]]);
+            }
+        }
+    }
+    points
+}
+
 /// A uniform grid: nodes `(i, j)` at `origin + (i, j)·spacing`, `i < nodes[0]`, `j < nodes[1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridSpec {

@@ -28,25 +28,6 @@ const RIGID: Material = Material::Rigid(RigidMaterial {
     rolling_resistance: 0.0,
 });
 
-/// Lattice points at half the grid spacing inside a disc; each stands for `spacing²` of area.
-fn disc_points(center: [f64; 2], radius: f64, spacing: f64) -> Vec<[f64; 2]> {
-    #[expect(
-        clippy::cast_possible_truncation,
-        reason = "a small positive count of lattice sites"
-    )]
-    let reach = (radius / spacing).ceil() as i64;
-    let mut points = Vec::new();
-    for i in -reach..=reach {
-        for j in -reach..=reach {
-            let offset = [(i as f64 + 0.5) * spacing, (j as f64 + 0.5) * spacing];
-            if offset[0].hypot(offset[1]) < radius {
-                points.push([center[0] + offset[0], center[1] + offset[1]]);
-            }
-        }
-    }
-    points
-}
-
 /// Adds a disc of `material` (a body when the material is rigid); returns its particle count.
 fn add_disc(
     solver: &mut Solver,
@@ -56,7 +37,7 @@ fn add_disc(
     velocity: [f64; 2],
 ) -> usize {
     let spacing = solver.grid().spacing * 0.5;
-    let points = disc_points(center, radius, spacing);
+    let points = disc_lattice(center, radius, spacing);
     let volume = spacing * spacing;
     if let Material::Rigid(_) = solver.materials()[material] {
         solver
@@ -502,7 +483,7 @@ fn a_resting_rigid_disc_neither_sinks_nor_turns_and_momentum_is_kept_in_flight()
         ..Settings::default()
     };
     let mut solver = Solver::new(grid(48, 0.05), vec![RIGID], &[], settings).unwrap();
-    let points = disc_points([1.2, 1.2], 0.5, 0.025);
+    let points = disc_lattice([1.2, 1.2], 0.5, 0.025);
     solver
         .add_rigid_body(0, 0.5, &points, [0.3, -0.2], 4.0, 0.025 * 0.025)
         .unwrap();

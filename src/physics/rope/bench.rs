@@ -5,7 +5,7 @@
 //! re-tightens, whose reference is the same simulator at a step 10× finer than the finest
 //! swept. Error: the largest difference of any body's height from the reference at the end, m.
 
-use super::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope, SimulationError};
+use super::{Body, GRAVITY, Mechanism, Mount, Network, Point, Pulley, Rope};
 use std::path::PathBuf;
 
 use crate::physics::bench::{
@@ -48,13 +48,6 @@ pub const BENCH: PhysicsBench = PhysicsBench {
     cases,
 };
 
-fn failed(case: &str, error: &SimulationError) -> BenchError {
-    BenchError {
-        case: case.to_string(),
-        message: error.to_string(),
-    }
-}
-
 /// A case running `mechanism` for [`DURATION`]: the bodies' end heights.
 fn case(name: &'static str, mechanism: Mechanism, exact: Option<Vec<f64>>) -> BenchCase {
     BenchCase {
@@ -65,7 +58,7 @@ fn case(name: &'static str, mechanism: Mechanism, exact: Option<Vec<f64>>) -> Be
             let mut state = mechanism.initial_state();
             mechanism
                 .run(&mut state, DURATION, dt)
-                .map_err(|error| failed(name, &error))?;
+                .map_err(|error| BenchError::new(name, error))?;
             Ok(CaseOutput {
                 quantities: vec![state.y],
                 work: None,
@@ -108,7 +101,7 @@ fn cases(_videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
         turns: Vec::new(),
         drives: Vec::new(),
     })
-    .map_err(|error| failed("mechanism", &error))?;
+    .map_err(|error| BenchError::new("mechanism", error))?;
     let a = GRAVITY * (m2 - m1) / (m1 + m2 + inertia / (radius * radius));
     let fall = 0.5 * a * DURATION * DURATION;
     let atwood_exact = vec![-2.0 + fall, -3.0 - fall];
@@ -131,7 +124,7 @@ fn cases(_videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
         turns: Vec::new(),
         drives: Vec::new(),
     })
-    .map_err(|error| failed("mechanism", &error))?;
+    .map_err(|error| BenchError::new("mechanism", error))?;
     let a = (GRAVITY * (m2 - m1) + torque / radius) / (m1 + m2 + inertia / (radius * radius));
     let fall = 0.5 * a * DURATION * DURATION;
     let bearing_exact = vec![-2.0 + fall, -3.0 - fall];
@@ -169,7 +162,7 @@ fn cases(_videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
         turns: Vec::new(),
         drives: Vec::new(),
     })
-    .map_err(|error| failed("mechanism", &error))?;
+    .map_err(|error| BenchError::new("mechanism", error))?;
     let q = -GRAVITY * (mp - ma - 2.0 * mb) / (ma + mp + 4.0 * mb);
     let moved = 0.5 * q * DURATION * DURATION;
     let network_exact = vec![-2.0 - moved, -3.0 + moved, -2.5 - 2.0 * moved];
@@ -189,7 +182,7 @@ fn cases(_videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     };
     landing_network.bodies[0].floor_clearance = Some(0.1);
     let landing = Mechanism::new(landing_network)
-        .map_err(|error| failed("landing_slack_retighten", &error))?;
+        .map_err(|error| BenchError::new("landing_slack_retighten", error))?;
     Ok(vec![
         case("atwood_with_pulley_inertia", atwood, Some(atwood_exact)),
         case("atwood_with_bearing_friction", bearing, Some(bearing_exact)),

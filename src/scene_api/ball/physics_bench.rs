@@ -20,13 +20,14 @@
 //!
 //! Input: video folders with an `outputs.json`. Output: the cases of [`BENCH`].
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use super::simulate::{BallModel, BallStart, Stadium, UPDATE_SECONDS, run};
 use crate::dataset::ball::BallAnnotation;
 use crate::dataset::ball::outcome::{MAX_UPDATES, Pit};
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
+    video_name,
 };
 
 /// The ball simulation's benchmark.
@@ -95,13 +96,6 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     cases,
 };
 
-fn failed(case: &str, message: impl std::fmt::Display) -> BenchError {
-    BenchError {
-        case: case.to_string(),
-        message: message.to_string(),
-    }
-}
-
 /// Which balls a case runs, without which floating wall.
 #[derive(Debug, Clone)]
 struct CaseScene {
@@ -116,7 +110,7 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     for video in videos {
         let name = video_name(video);
         let annotation = BallAnnotation::load(&video.join("outputs.json"))
-            .map_err(|error| failed(&name, error))?;
+            .map_err(|error| BenchError::new(&name, error))?;
         let stadium = Stadium::from_layout(&annotation.layout);
         let starts: Vec<BallStart> = annotation
             .layout
@@ -161,17 +155,6 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     Ok(cases)
 }
 
-/// The last two components of a video folder (`soft_body/0`).
-fn video_name(video: &Path) -> String {
-    let parts: Vec<String> = video
-        .components()
-        .rev()
-        .take(2)
-        .map(|part| part.as_os_str().to_string_lossy().into_owned())
-        .collect();
-    parts.into_iter().rev().collect::<Vec<_>>().join("/")
-}
-
 /// Seconds of one video (240 updates), the unit of the drop time error.
 const VIDEO_SECONDS: f64 = 4.0;
 
@@ -180,31 +163,31 @@ const VIDEO_SECONDS: f64 = 4.0;
 /// elongation.
 fn measure(scene: &CaseScene, case: &str, point: &[f64]) -> Result<CaseOutput, BenchError> {
     let [spacing, per_side, cfl, shift] = *point else {
-        return Err(failed(
+        return Err(BenchError::new(
             case,
             "a sweep point needs a grid spacing, a count, a CFL number and a shift",
         ));
     };
     if !(spacing.is_finite() && (0.01..=0.5).contains(&spacing)) {
-        return Err(failed(
+        return Err(BenchError::new(
             case,
             format!("grid spacing must be 0.01 to 0.5 units, not {spacing}"),
         ));
     }
     if !((1.0..=6.0).contains(&per_side) && per_side.fract() == 0.0) {
-        return Err(failed(
+        return Err(BenchError::new(
             case,
             format!("particles per cell side must be 1 to 6, not {per_side}"),
         ));
     }
     if !(cfl > 0.0 && cfl <= 1.0) {
-        return Err(failed(
+        return Err(BenchError::new(
             case,
             format!("the CFL number must be in (0, 1], not {cfl}"),
         ));
     }
     if !shift.is_finite() || shift.abs() > 0.1 {
-        return Err(failed(
+        return Err(BenchError::new(
             case,
             format!("a start shift must be within ±0.1 units, not {shift}"),
         ));
@@ -229,7 +212,7 @@ fn measure(scene: &CaseScene, case: &str, point: &[f64]) -> Result<CaseOutput, B
         })
         .collect();
     let tracks = run(&scene.stadium, scene.removed, &balls, &model, MAX_UPDATES)
-        .map_err(|error| failed(case, error))?;
+        .map_err(|error| BenchError::new(case, error))?;
     let mut pits = Vec::new();
     let mut times = Vec::new();
     let label = |holds: bool| if holds { 1.0 } else { 0.0 };

@@ -13,11 +13,11 @@
 //! ([`BallModel`]). Output: each ball's centre after every update ([`RunTracks`]), and the work.
 
 use crate::dataset::ball::ElasticityType;
-use crate::dataset::ball::outcome::{FALL_HEIGHT, GONE_HEIGHT, Pit, track_finished};
+use crate::dataset::ball::outcome::{GONE_HEIGHT, Pit, first_drop, track_finished};
 use crate::dataset::ball::{BallLayout, SlabRecord};
 use crate::physics::mpm::{
     Boundary, Collider, ElastoplasticMaterial, GridSpec, Material, MpmError, RigidMaterial,
-    Settings, Shape, Solver, Walls,
+    Settings, Shape, Solver, Walls, disc_lattice,
 };
 
 /// One update of the release, s.
@@ -146,11 +146,7 @@ pub struct RunTracks {
 impl RunTracks {
     /// Where and after how many updates ball `index`'s centre first dropped below the pit line.
     pub fn drop_of(&self, index: usize) -> Option<(Pit, usize)> {
-        let track = self.centres.get(index)?;
-        track
-            .iter()
-            .position(|centre| centre[1] < FALL_HEIGHT)
-            .and_then(|at| track.get(at).map(|centre| (Pit::at(centre[0]), at + 1)))
+        first_drop(self.centres.get(index)?)
     }
 }
 
@@ -197,25 +193,6 @@ fn grid_around(slabs: &[&StadiumSlab], balls: &[BallStart], spacing: f64) -> Gri
         nodes: [nodes(0).max(8), nodes(1).max(8)],
         walls: Walls { low: 2, high: 2 },
     }
-}
-
-/// Lattice points of a ball's disc, `spacing` apart.
-fn disc_points(centre: [f64; 2], spacing: f64) -> Vec<[f64; 2]> {
-    #[expect(
-        clippy::cast_possible_truncation,
-        reason = "a ball spans a few dozen lattice sites"
-    )]
-    let reach = (BALL_RADIUS / spacing).ceil() as i64;
-    let mut points = Vec::new();
-    for i in -reach..=reach {
-        for j in -reach..=reach {
-            let offset = [(i as f64 + 0.5) * spacing, (j as f64 + 0.5) * spacing];
-            if offset[0].hypot(offset[1]) < BALL_RADIUS {
-                points.push([centre[0] + offset[0], centre[1] + offset[1]]);
-            }
-        }
-    }
-    points
 }
 
 /// Runs the balls in the stadium without floating wall `removed` until every ball has dropped
@@ -273,7 +250,7 @@ pub fn run(
     // Each ball's particles weigh 1 in all (the lattice disc's area is not quite π r²).
     let mut rigid_index = vec![None; balls.len()];
     for (index, ball) in balls.iter().enumerate() {
-        let points = disc_points(ball.centre, lattice);
+        let points = disc_lattice(ball.centre, BALL_RADIUS, lattice);
         if ball.material == ElasticityType::Rigid {
             rigid_index[index] = Some(solver.add_rigid_body(
                 index,

@@ -39,6 +39,7 @@ use crate::dataset::fluid::world::{
 use crate::dataset::fluid::{FluidAnnotation, Viscosity};
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
+    video_name,
 };
 
 /// Updates after an emitter opens at which its front is measured (1/60 s each).
@@ -117,13 +118,6 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     cases,
 };
 
-fn failed(case: &str, message: impl std::fmt::Display) -> BenchError {
-    BenchError {
-        case: case.to_string(),
-        message: message.to_string(),
-    }
-}
-
 /// The factual and first counterfactual case of every video.
 fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     let mut cases = Vec::new();
@@ -153,17 +147,6 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     Ok(cases)
 }
 
-/// The last two components of a video folder (`fluid_slides/0`).
-fn video_name(video: &Path) -> String {
-    let parts: Vec<String> = video
-        .components()
-        .rev()
-        .take(2)
-        .map(|part| part.as_os_str().to_string_lossy().into_owned())
-        .collect();
-    parts.into_iter().rev().collect::<Vec<_>>().join("/")
-}
-
 /// A video's scene with its true materials.
 struct Scene {
     annotation: FluidAnnotation,
@@ -174,9 +157,10 @@ struct Scene {
 impl Scene {
     fn load(video: &Path) -> Result<Scene, BenchError> {
         let case = video.display().to_string();
-        let annotation =
-            FluidAnnotation::load(&video.join("outputs.json")).map_err(|e| failed(&case, e))?;
-        let geometry = FluidGeometry::from_annotation(&annotation).map_err(|e| failed(&case, e))?;
+        let annotation = FluidAnnotation::load(&video.join("outputs.json"))
+            .map_err(|e| BenchError::new(&case, e))?;
+        let geometry =
+            FluidGeometry::from_annotation(&annotation).map_err(|e| BenchError::new(&case, e))?;
         let materials = annotation
             .layout
             .fluids
@@ -206,13 +190,13 @@ impl Scene {
         point: &[f64],
     ) -> Result<CaseOutput, BenchError> {
         let [grid_spacing, per_side, shift] = *point else {
-            return Err(failed(
+            return Err(BenchError::new(
                 case,
                 "a sweep point needs a grid spacing, a count and a shift",
             ));
         };
         if !shift.is_finite() || shift.abs() > 0.1 {
-            return Err(failed(
+            return Err(BenchError::new(
                 case,
                 format!("an emitter shift must be within ±0.1 units, not {shift}"),
             ));
@@ -222,7 +206,7 @@ impl Scene {
             emitter.centre[0] += shift;
         }
         if !((1.0..=8.0).contains(&per_side) && per_side.fract() == 0.0) {
-            return Err(failed(
+            return Err(BenchError::new(
                 case,
                 format!("particles per cell side must be 1 to 8, not {per_side}"),
             ));
@@ -284,7 +268,7 @@ impl Scene {
             &settings,
             &mut observe,
         )
-        .map_err(|e| failed(case, e))?;
+        .map_err(|e| BenchError::new(case, e))?;
         let per_fluid = f64::from(PARTICLES_PER_EMITTER);
         let mut containers = Vec::new();
         let mut passes = Vec::new();
