@@ -175,11 +175,7 @@ fn perceived_scenario(
             several => {
                 return Err(user_error(format!(
                     "the data holds videos of {}; pass --scenario",
-                    several
-                        .iter()
-                        .map(|s| s.name())
-                        .collect::<Vec<_>>()
-                        .join(" and ")
+                    spoken_list(&several.iter().map(|s| s.name()).collect::<Vec<_>>())
                 )));
             }
         }
@@ -483,4 +479,13 @@ fn peak_rss_mib() -> Option<f64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
+}
+
+/// `a`, `a and b`, `a, b and c`: a list as a sentence says it.
+fn spoken_list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    }
 }

@@ -289,6 +289,37 @@ fn normalize(v: [f64; 3]) -> [f64; 3] {
     }
 }
 
+/// The segment along the principal axis of `points` spanning their extent: the centre line of
+/// a bar seen from the front (its ends at the bar's ends). `None` for fewer than 3 points.
+pub fn principal_segment(points: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
+    if points.len() < 3 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean = [
+        points.iter().map(|p| p[0]).sum::<f64>() / n,
+        points.iter().map(|p| p[1]).sum::<f64>() / n,
+    ];
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let (dx, dy) = (p[0] - mean[0], p[1] - mean[1]);
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+    }
+    // The major axis of the 2 × 2 covariance.
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let axis = [angle.cos(), angle.sin()];
+    let along = |p: &[f64; 2]| (p[0] - mean[0]) * axis[0] + (p[1] - mean[1]) * axis[1];
+    let low = points.iter().map(along).fold(f64::INFINITY, f64::min);
+    let high = points.iter().map(along).fold(f64::NEG_INFINITY, f64::max);
+    // The axis through the bar's middle: the extent's midpoint, not the pixels' mean (a bar
+    // partly hidden keeps its ends).
+    let at = |t: f64| [mean[0] + t * axis[0], mean[1] + t * axis[1]];
+    let (start, end) = (at(low), at(high));
+    (start.iter().chain(&end).all(|v| v.is_finite()) && high > low).then_some((start, end))
+}
+
 #[cfg(test)]
 #[expect(
     clippy::unreadable_literal,

@@ -24,6 +24,7 @@
 //!   accuracy, identity switches).
 
 pub mod assignment;
+pub mod ball;
 pub mod camera;
 pub mod classes;
 pub mod closer;

@@ -120,6 +120,8 @@ static TABLE: [ScenarioParts; 4] = [
         synth: Some(&synth::ball::BALL_SYNTH),
         writer: Some(&builtin::ball::WRITER),
         scene: Some(scene_api::ball::load),
+        perception: Some(&perception::ball::PERCEPTION),
+        reading_check: Some(scene_api::ball::scene_report),
         inference_bench: Some(scene_api::ball::infer::inference_report),
         physics_bench: Some(&scene_api::ball::physics_bench::BENCH),
         ..ScenarioParts::words_only(Scenario::Ball, &dataset::ball::VOCABULARY)

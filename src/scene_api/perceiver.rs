@@ -520,3 +520,51 @@ fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
         (count > 0).then(|| 1.0 / count as f64)
     })
 }
+
+/// What a perfect detector finds: a video's segmentation truth on `frames` as detections, each
+/// coloured by its name (for the scene readers' tests).
+#[cfg(test)]
+pub(crate) fn truth_detections(
+    video: &Path,
+    classes: ScenarioClasses,
+    frames: &[usize],
+) -> (Vec<(usize, Vec<Detection>)>, ClassTable) {
+    use crate::perception::truth::{MP4_TOLERANCE, Painted, truth_instances};
+    let classes = ClassTable::of_scenario(classes);
+    let records = SegmentationRecords::read(&video.join("outputs.json")).unwrap();
+    let source = FrameSource::of_video(video, Stream::Segmentation).unwrap();
+    let mut per_frame = Vec::new();
+    for frame in source.read(frames).unwrap() {
+        let boxes = &records.boxes[&frame.index];
+        let painted: Vec<Painted<'_>> = records.frames[&frame.index]
+            .iter()
+            .map(|p| Painted {
+                id: p.instance_id,
+                color: p.color,
+                name: records.names[&p.instance_id].as_str(),
+                bbox: boxes
+                    .iter()
+                    .find(|(id, _)| *id == p.instance_id)
+                    .map(|b| b.1),
+            })
+            .collect();
+        let detections = truth_instances(&frame, &painted, &classes, MP4_TOLERANCE)
+            .into_iter()
+            .filter_map(|truth| {
+                let [x0, y0, x1, y1] = truth.mask.bounds()?;
+                #[expect(clippy::cast_precision_loss, reason = "pixel coordinates")]
+                let bbox = [x0 as f32, y0 as f32, x1 as f32, y1 as f32];
+                Some(Detection {
+                    frame: frame.index,
+                    class: truth.class,
+                    score: 1.0,
+                    bbox,
+                    mask: truth.mask,
+                    color: truth.color,
+                })
+            })
+            .collect();
+        per_frame.push((frame.index, detections));
+    }
+    (per_frame, classes)
+}

@@ -93,7 +93,7 @@ pub struct BallRecord {
 }
 
 /// `metaSamplingData`: the sampled layout.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct BallLayout {
     /// `Right Ramp`, `Left Ramp`.
     pub ramps: Vec<SlabRecord>,

@@ -2,12 +2,14 @@
 //! outcomes from its records (`--dynamics annotation`, the paper's offline mode).
 //!
 //! Input: a video's `outputs.json` ([`BallAnnotation`]); under `--dynamics simulate` also its
-//! tracked particles (`outputs4D.json`). Output: the scene's objects and the answers of `query`,
-//! `register_event` and `happen` (`docs/data/ball.md`). Under `--dynamics simulate` the
-//! materials are read from the tracked particles ([`infer`]) and the runs are simulated
-//! ([`simulate`], made on first use by `runs`); the annotation gives only the layout. Ball
-//! videos are not read from pixels in this version: `--perception maskrcnn` says so
-//! (`ApiError::Unavailable`).
+//! tracked particles (`outputs4D.json`), or under `--perception maskrcnn` its frames. Output:
+//! the scene's objects and the answers of `query`, `register_event` and `happen`
+//! (`docs/data/ball.md`). Under `--dynamics simulate` the materials are read from the tracked
+//! particles ([`infer`]) and the runs are simulated ([`simulate`], made on first use by `runs`);
+//! the annotation gives only the layout. Under `--perception maskrcnn` the detector's masks give
+//! the stadium and the balls' paths (`perceived`), and of the annotation only the camera
+//! calibration is read (with `--dynamics annotation`, also the recorded outcomes, keyed by the
+//! names perception must read right).
 //!
 //! Objects, in this order: the balls (`Red Ball`), the floating walls (`White Floating Wall`),
 //! the ramps (`Right Ramp`, `Left Ramp`: kind `ramp`, their colour, `side` right or left), then
@@ -28,15 +30,19 @@
 //!   (observed in the video or after it).
 
 pub mod infer;
+mod perceived;
 pub(crate) mod physics_bench;
+mod reading_check;
 mod runs;
+mod silhouette;
 pub mod simulate;
 #[cfg(test)]
 mod tests;
 
 use std::path::PathBuf;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
+pub use reading_check::scene_report;
 use runs::{BallRuns, RunKey, SeenBall};
 use simulate::{BallModel, Stadium};
 
@@ -44,6 +50,8 @@ use crate::dataset::ball::names::parse_ball_object_name;
 use crate::dataset::ball::outcome::{Pit, PitRecord};
 use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
 use crate::dataset::{FourDData, Scenario};
+use crate::perception::ball::PERCEPTION;
+use crate::scene_api::perceiver::Perceiver;
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
@@ -56,17 +64,52 @@ const AND_OTHER_BALLS: &str = " and other balls";
 
 /// Loads the backend of a ball video (the scenario table's scene backend for ball).
 pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
-    if spec.perception != PerceptionBackend::Annotation {
-        return Err(ApiError::Unavailable(
-            "ball videos are not read from pixels in this version: use --perception annotation"
-                .to_string(),
-        ));
-    }
     let annotation = BallAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-    let mut backend = BallBackend::new(annotation);
-    if spec.dynamics == DynamicsBackend::Simulate {
-        backend.simulate_from = Some(spec.video_dir.clone());
+    if spec.perception == PerceptionBackend::Annotation {
+        let mut backend = BallBackend::new(annotation);
+        if spec.dynamics == DynamicsBackend::Simulate {
+            backend.simulate_from = Some(spec.video_dir.clone());
+        }
+        return Ok(Box::new(backend));
     }
+    // `--perception maskrcnn`: of the annotation only the camera calibration is read, unless
+    // the dynamics are the annotation's (whose recorded runs are keyed by its names).
+    let camera = annotation.camera.clone().ok_or_else(|| {
+        ApiError::Unavailable(
+            "perception needs the camera calibration (outputCamera), which this video lacks"
+                .to_string(),
+        )
+    })?;
+    let mut perceiver = Perceiver::open(
+        &spec.video_dir,
+        spec.perception_models()?,
+        PERCEPTION.classes,
+        &VOCABULARY,
+    )?;
+    let perceived = perceived::perceive_scene(&mut perceiver, &camera)?;
+    perceiver.set_names(perceived.names.clone());
+    let backend = match spec.dynamics {
+        DynamicsBackend::Simulate => {
+            let mut backend = BallBackend::new(perceived.annotation);
+            backend.simulate_from = Some(spec.video_dir.clone());
+            backend.perceiver = Some(Mutex::new(perceiver));
+            backend
+        }
+        DynamicsBackend::Annotation => {
+            // The objects perception did not read (a ball or wall in another colour, a ramp
+            // not seen) are not the annotated ones, whose outcomes are keyed by name.
+            let mut backend = BallBackend::new(annotation);
+            let seen = BallBackend::new(perceived.annotation);
+            for object in &mut backend.objects {
+                object.visible = object.kind == "pit"
+                    || seen
+                        .objects
+                        .iter()
+                        .any(|other| other.name == object.name && other.color == object.color);
+            }
+            backend
+        }
+    };
     Ok(Box::new(backend))
 }
 
@@ -93,6 +136,9 @@ pub(crate) struct BallBackend {
     simulate_from: Option<PathBuf>,
     /// The simulated runs, set up on first use.
     runs: OnceLock<Result<BallRuns, ApiError>>,
+    /// The video as the detector sees it (`--perception maskrcnn --dynamics simulate`): the
+    /// balls' paths are read from its masks instead of the tracked particles.
+    perceiver: Option<Mutex<Perceiver>>,
 }
 
 /// The run an event starts.
@@ -169,46 +215,23 @@ impl BallBackend {
             roles,
             simulate_from: None,
             runs: OnceLock::new(),
+            perceiver: None,
         }
     }
 
     /// The simulated runs (`--dynamics simulate`), set up on first use: the stadium from the
-    /// layout, each ball's motion and material from its tracked particles.
+    /// layout, each ball's motion (and, from its tracked particles, material) from the video.
     fn simulated_runs(&self, folder: &std::path::Path) -> Result<&BallRuns, ApiError> {
         self.runs
             .get_or_init(|| {
-                let path = folder.join("outputs4D.json");
-                let four_d = FourDData::load(&path).map_err(|error| {
-                    ApiError::Unavailable(format!(
-                        "--dynamics simulate reads the balls' tracked particles: {error}"
-                    ))
-                })?;
-                let names: Vec<String> = self
-                    .annotation
-                    .layout
-                    .balls
-                    .iter()
-                    .map(|ball| ball.name.clone())
-                    .collect();
-                let readings = infer::read_materials(&four_d, &names);
-                let mut balls = Vec::with_capacity(names.len());
-                for (name, reading) in names.iter().zip(readings) {
-                    let track = four_d.soft_bodies.get(name).ok_or_else(|| {
-                        ApiError::Unavailable(format!(
-                            "{} has no tracked particles for the {}",
-                            path.display(),
-                            name.to_lowercase()
-                        ))
-                    })?;
-                    let seen = SeenBall::from_track(name, reading.material, &track.particles)
-                        .ok_or_else(|| {
-                            ApiError::Unavailable(format!(
-                                "the {} is tracked in fewer than two frames",
-                                name.to_lowercase()
-                            ))
-                        })?;
-                    balls.push(seen);
-                }
+                let mut balls = match &self.perceiver {
+                    Some(perceiver) => {
+                        let mut perceiver =
+                            perceiver.lock().unwrap_or_else(PoisonError::into_inner);
+                        self.balls_from_pixels(&mut perceiver)?
+                    }
+                    None => self.balls_from_particles(folder)?,
+                };
                 let stadium = Stadium::from_layout(&self.annotation.layout);
                 let model = BallModel::default();
                 let work = runs::fit_materials(&stadium, &mut balls, &model)?;
@@ -216,6 +239,58 @@ impl BallBackend {
             })
             .as_ref()
             .map_err(Clone::clone)
+    }
+
+    /// Each ball's path from the detector's masks over the whole video (no material: the fit
+    /// decides).
+    fn balls_from_pixels(&self, perceiver: &mut Perceiver) -> Result<Vec<SeenBall>, ApiError> {
+        let camera = self.annotation.camera.as_ref().ok_or_else(|| {
+            ApiError::Unavailable(
+                "perception needs the camera calibration (outputCamera), which this video lacks"
+                    .to_string(),
+            )
+        })?;
+        let (width, height, _) = perceiver.frames();
+        let model = perceived::camera_model(camera, (width, height));
+        perceived::seen_balls(perceiver, &self.annotation.layout, &model)
+    }
+
+    /// Each ball's path and material from its tracked particles (`outputs4D.json` in `folder`).
+    fn balls_from_particles(&self, folder: &std::path::Path) -> Result<Vec<SeenBall>, ApiError> {
+        let path = folder.join("outputs4D.json");
+        let four_d = FourDData::load(&path).map_err(|error| {
+            ApiError::Unavailable(format!(
+                "--dynamics simulate reads the balls' tracked particles: {error}"
+            ))
+        })?;
+        let names: Vec<String> = self
+            .annotation
+            .layout
+            .balls
+            .iter()
+            .map(|ball| ball.name.clone())
+            .collect();
+        let readings = infer::read_materials(&four_d, &names);
+        let mut balls = Vec::with_capacity(names.len());
+        for (name, reading) in names.iter().zip(readings) {
+            let track = four_d.soft_bodies.get(name).ok_or_else(|| {
+                ApiError::Unavailable(format!(
+                    "{} has no tracked particles for the {}",
+                    path.display(),
+                    name.to_lowercase()
+                ))
+            })?;
+            let seen = SeenBall::from_track(name, reading.material, &track.particles).ok_or_else(
+                || {
+                    ApiError::Unavailable(format!(
+                        "the {} is tracked in fewer than two frames",
+                        name.to_lowercase()
+                    ))
+                },
+            )?;
+            balls.push(seen);
+        }
+        Ok(balls)
     }
 
     /// The material `query` compares for ball `index`: the annotation's, or under `--dynamics

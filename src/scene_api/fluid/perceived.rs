@@ -37,7 +37,7 @@ use crate::dataset::fluid::{
     ReservoirRecord, StickRecord, TankLayout, Viscosity, container_name, container_part_name,
     emitter_name, fluid_name, later_fluid_name, palette_name, stick_name,
 };
-use crate::perception::camera::CameraModel;
+use crate::perception::camera::{CameraModel, principal_segment};
 use crate::perception::classes::ClassTable;
 use crate::perception::color::{unlike_wall, wall_color};
 use crate::perception::detection::{Detection, InstanceMask};
@@ -325,37 +325,6 @@ fn place_sticks(
         centre(a).total_cmp(&centre(b))
     });
     sticks
-}
-
-/// The segment along the principal axis of `points` spanning their extent: the centre line of
-/// a bar seen from the front (its ends at the bar's ends). `None` for fewer than 3 points.
-pub(crate) fn principal_segment(points: &[[f64; 2]]) -> Option<([f64; 2], [f64; 2])> {
-    if points.len() < 3 {
-        return None;
-    }
-    let n = points.len() as f64;
-    let mean = [
-        points.iter().map(|p| p[0]).sum::<f64>() / n,
-        points.iter().map(|p| p[1]).sum::<f64>() / n,
-    ];
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    for p in points {
-        let (dx, dy) = (p[0] - mean[0], p[1] - mean[1]);
-        sxx += dx * dx;
-        sxy += dx * dy;
-        syy += dy * dy;
-    }
-    // The major axis of the 2 × 2 covariance.
-    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
-    let axis = [angle.cos(), angle.sin()];
-    let along = |p: &[f64; 2]| (p[0] - mean[0]) * axis[0] + (p[1] - mean[1]) * axis[1];
-    let low = points.iter().map(along).fold(f64::INFINITY, f64::min);
-    let high = points.iter().map(along).fold(f64::NEG_INFINITY, f64::max);
-    // The axis through the bar's middle: the extent's midpoint, not the pixels' mean (a bar
-    // partly hidden keeps its ends).
-    let at = |t: f64| [mean[0] + t * axis[0], mean[1] + t * axis[1]];
-    let (start, end) = (at(low), at(high));
-    (start.iter().chain(&end).all(|v| v.is_finite()) && high > low).then_some((start, end))
 }
 
 /// The least and greatest x of `points` (infinities, low above high, when there are none).
@@ -716,53 +685,16 @@ fn annotation(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::SegmentationRecords;
     use crate::perception::fluid::PERCEPTION;
-    use crate::perception::frames::{FrameSource, Stream};
     use crate::perception::tracking::{TrackerConfig, track};
-    use crate::perception::truth::{MP4_TOLERANCE, Painted, truth_instances};
+    use crate::scene_api::perceiver::truth_detections;
     use std::path::Path;
 
     /// The first pass a perfect detector makes on a video: its segmentation truth on frames
     /// 0, 10, …, 60 as detections (containers whole, fluids in pieces), tracked.
     fn truth_pass(video: &Path) -> (Vec<Track>, BTreeMap<usize, Vec<Detection>>, ClassTable) {
-        let classes = ClassTable::of_scenario(PERCEPTION.classes);
-        let records = SegmentationRecords::read(&video.join("outputs.json")).unwrap();
-        let source = FrameSource::of_video(video, Stream::Segmentation).unwrap();
         let wanted: Vec<usize> = (0..=60).step_by(10).collect();
-        let mut per_frame = Vec::new();
-        for frame in source.read(&wanted).unwrap() {
-            let boxes = &records.boxes[&frame.index];
-            let painted: Vec<Painted<'_>> = records.frames[&frame.index]
-                .iter()
-                .map(|p| Painted {
-                    id: p.instance_id,
-                    color: p.color,
-                    name: records.names[&p.instance_id].as_str(),
-                    bbox: boxes
-                        .iter()
-                        .find(|(id, _)| *id == p.instance_id)
-                        .map(|b| b.1),
-                })
-                .collect();
-            let detections = truth_instances(&frame, &painted, &classes, MP4_TOLERANCE)
-                .into_iter()
-                .filter_map(|truth| {
-                    let [x0, y0, x1, y1] = truth.mask.bounds()?;
-                    #[expect(clippy::cast_precision_loss, reason = "pixel coordinates")]
-                    let bbox = [x0 as f32, y0 as f32, x1 as f32, y1 as f32];
-                    Some(Detection {
-                        frame: frame.index,
-                        class: truth.class,
-                        score: 1.0,
-                        bbox,
-                        mask: truth.mask,
-                        color: truth.color,
-                    })
-                })
-                .collect();
-            per_frame.push((frame.index, detections));
-        }
+        let (per_frame, classes) = truth_detections(video, PERCEPTION.classes, &wanted);
         let tracks = track(&per_frame, &TrackerConfig::default()).unwrap();
         (tracks, per_frame.into_iter().collect(), classes)
     }
