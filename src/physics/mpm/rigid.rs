@@ -26,7 +26,9 @@ use super::collider::{Boundary, Collider, project};
 use super::grid::{block_key, blocks_along, node_is_live};
 use super::material::Material;
 use super::solver::{ParticleState, Solver};
-use super::transfer::{affine_norm_squared, clamp_position, grid_index, is_finite, speed_squared};
+use super::transfer::{
+    ParticleConstants, affine_norm_squared, clamp_position, grid_index, is_finite, speed_squared,
+};
 
 /// Sequential-impulse passes over a disc's collider contacts per substep (a wedge has two).
 const CONTACT_PASSES: usize = 8;
@@ -270,6 +272,52 @@ impl RigidBodies {
 
 /// Adding, coupling and moving the rigid discs of a solver.
 impl Solver {
+    /// Slows the rigid rotation of the particles of `material` about their centre of mass by up
+    /// to `most` rad/s (a soft body's rolling resistance, which the caller applies between
+    /// advances while the body touches a surface): that much spin leaves their velocities and
+    /// APIC matrices, their linear momentum stays. Returns their spin before, `None` when no
+    /// particle is of `material` or the spin is not a number.
+    pub fn spin_down(&mut self, material: usize, most: f64) -> Option<f64> {
+        let ours = |constants: &ParticleConstants| constants.material as usize == material;
+        let (mut mass, mut moment) = (0.0, [0.0; 2]);
+        for (state, constants) in self.state.iter().zip(&self.constants) {
+            if ours(constants) {
+                mass += constants.mass;
+                moment[0] += constants.mass * state.position[0];
+                moment[1] += constants.mass * state.position[1];
+            }
+        }
+        if mass <= 0.0 {
+            return None;
+        }
+        let centre = [moment[0] / mass, moment[1] / mass];
+        let (mut angular_momentum, mut inertia) = (0.0, 0.0);
+        for (state, constants) in self.state.iter().zip(&self.constants) {
+            if ours(constants) {
+                let r = [state.position[0] - centre[0], state.position[1] - centre[1]];
+                angular_momentum +=
+                    constants.mass * (r[0] * state.velocity[1] - r[1] * state.velocity[0]);
+                inertia += constants.mass * (r[0] * r[0] + r[1] * r[1]);
+            }
+        }
+        let spin = angular_momentum / inertia;
+        if !spin.is_finite() || inertia <= 0.0 {
+            return None;
+        }
+        let change = spin.signum() * spin.abs().min(most.max(0.0));
+        for (state, constants) in self.state.iter_mut().zip(&self.constants) {
+            if ours(constants) {
+                let r = [state.position[0] - centre[0], state.position[1] - centre[1]];
+                state.velocity[0] += change * r[1];
+                state.velocity[1] -= change * r[0];
+                // A rotation's velocity gradient is [[0, −ω], [ω, 0]].
+                state.affine[1] += change;
+                state.affine[2] -= change;
+            }
+        }
+        Some(spin)
+    }
+
     /// Adds a rigid disc of `material` (a [`Material::Rigid`]) and `radius`, centred on the centroid
     /// of its marker particles at `positions` (each standing for `volume` of the disc: its mass
     /// and moment of inertia are theirs), moving with `velocity` and `angular_velocity` (rad/s,
