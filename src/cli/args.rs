@@ -699,10 +699,12 @@ impl Cli {
                 init,
                 steps,
                 threads,
+                material,
             })) => Request::BenchMpm88(BenchMpm88Settings {
                 init,
                 steps,
                 threads,
+                material,
             }),
             Some(Command::Bench(BenchCommand::Inference { data, noise })) => {
                 Request::BenchInference(data, noise)

@@ -7,6 +7,7 @@ use clap::Subcommand;
 
 use super::args::FrameSelectionArgs;
 use crate::dataset::Scenario;
+use crate::physics::mpm::mpm88::Mpm88Material;
 
 /// `bench` subcommands.
 #[derive(Debug, Subcommand)]
@@ -74,7 +75,8 @@ pub enum BenchCommand {
     },
     /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
     /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle
-    /// substeps per second. `benches/mpm88.sh` runs Taichi beside it.
+    /// substeps per second. `benches/mpm88.sh` runs Taichi beside it; `--material` swaps the
+    /// liquid for an elastoplastic solid (`benches/mpm_materials.sh`).
     Mpm88 {
         /// Initial positions, an `(N, 2)` float32 or float64 `.npy` file.
         #[arg(long, value_name = "FILE.npy")]
@@ -85,6 +87,11 @@ pub enum BenchCommand {
         /// Worker threads.
         #[arg(long, value_name = "N", default_value_t = 1)]
         threads: usize,
+        /// The particles' material: liquid (the example's), elastic (a fixed-corotated solid
+        /// with the liquid's wave speed) or plastic (the same solid with a von Mises yield
+        /// stress).
+        #[arg(long, value_name = "MATERIAL", default_value = "liquid")]
+        material: Mpm88Material,
     },
     /// Properties inferred from tracked motion (what `--dynamics simulate` answers property
     /// questions with) against the videos' values, as JSON: rope mass relations pair by pair;

@@ -227,6 +227,47 @@ fn bench_physics_errors_name_the_simulator_and_the_option() {
 }
 
 #[test]
+fn bench_mpm88_runs_the_solids_and_names_an_unknown_material() {
+    let init = "tests/data/mpm88/init_8192_seed0.npy";
+    for material in ["elastic", "plastic"] {
+        let arguments = [
+            "bench",
+            "mpm88",
+            "--init",
+            init,
+            "--steps",
+            "20",
+            "--material",
+            material,
+        ];
+        let output = contphy(&root(), &arguments);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+        assert_eq!(report["material"], material);
+        assert_eq!(
+            (report["steps"].as_u64(), report["clamped"].as_u64()),
+            (Some(20), Some(0))
+        );
+        for key in [
+            "mean_x",
+            "mean_y",
+            "kinetic_energy",
+            "mean_J",
+            "particle_steps_per_s",
+        ] {
+            let value = report[key].as_f64().unwrap_or(f64::NAN);
+            assert!(value.is_finite() && value > 0.0, "{key}: {report}");
+        }
+    }
+    let output = contphy(
+        &root(),
+        &["bench", "mpm88", "--init", init, "--material", "jelly"],
+    );
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    insta::assert_snapshot!("bench_mpm88_unknown_material", stderr(&output));
+}
+
+#[test]
 fn dynamics_simulate_answers_every_demo_question_like_the_annotations() {
     // Every counterfactual and goal-driven option of the real video, answered by simulating the
     // rebuilt mechanism instead of reading the recorded outcomes.

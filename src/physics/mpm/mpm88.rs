@@ -6,9 +6,19 @@
 //! nodes in at the low sides and two at the high sides (the example's `i > n − bound` with
 //! `bound = 3`), initial velocity (0, −1), `J = 1`, `C = 0`.
 //!
-//! Input: initial positions. Output: a [`Solver`] and, after stepping, a [`Summary`].
+//! **Solids** ([`Mpm88Material`]): the same grid, substep, gravity, walls, particles and initial
+//! state with the liquid swapped for an elastoplastic solid (fixed-corotated, von Mises on the
+//! Hencky strain, [`super::elastic`]), so the solid's step rate sits next to the liquid's on the
+//! same particle count; `benches/mpm88_taichi.py --material` runs the same solid in Taichi.
+//!
+//! Input: initial positions and the material. Output: a [`Solver`] and, after stepping, a
+//! [`Summary`].
 
-use super::{GridSpec, LiquidMaterial, Material, MpmError, Settings, Solver, Walls};
+use std::str::FromStr;
+
+use super::{
+    ElastoplasticMaterial, GridSpec, LiquidMaterial, Material, MpmError, Settings, Solver, Walls,
+};
 
 /// The example's constants for a particle count.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,6 +33,100 @@ pub struct Mpm88 {
 pub const YOUNGS_MODULUS: f64 = 400.0;
 /// Gravity of the example, length/s², downwards.
 pub const GRAVITY: f64 = 9.8;
+
+/// Young's modulus of the solids, stress units. With [`SOLID_POISSON_RATIO`] it gives Lamé
+/// `μ = 150`, `λ = 100`, so the P-wave modulus `λ + 2μ = 400` equals the liquid's bulk modulus
+/// [`YOUNGS_MODULUS`]: at density 1 the solid's fastest wave travels at 20, like the liquid's
+/// pressure wave, and the example's fixed substep keeps the same CFL number (0.51 of a cell a
+/// substep at both configurations) the liquid is stable at. A stiffer solid would need a
+/// smaller substep than the example's and so would not be the same run.
+pub const SOLID_YOUNGS_MODULUS: f64 = 360.0;
+/// Poisson's ratio of the solids (compressible like a rubber foam; far from the 0.5 where `λ`
+/// and the wave speed blow up).
+pub const SOLID_POISSON_RATIO: f64 = 0.2;
+/// Von Mises yield stress of the plastic solid, stress units. The block's own weight at its base
+/// (`ρ·g·h ≈ 9.8 × 0.4 ≈ 3.9`) and its landing at about 2 length/s push its deviatoric stress
+/// past 2, so from the landing (about substep 600) on the block keeps flowing and the return map
+/// projects a large share of the particles every substep (42% of the 16.4 M particle substeps of
+/// a 2,000-substep run), not only in a few landing substeps; the elastic solid's yield stress is
+/// infinite and its return map only checks the stretch range.
+pub const PLASTIC_YIELD_STRESS: f64 = 2.0;
+
+/// The particles' material: the example's liquid, or an elastoplastic solid on the same
+/// configuration (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mpm88Material {
+    /// The example's weakly compressible liquid (pressure `E(J − 1)`, no viscosity).
+    #[default]
+    Liquid,
+    /// A fixed-corotated elastic solid ([`SOLID_YOUNGS_MODULUS`], [`SOLID_POISSON_RATIO`]) that
+    /// never yields.
+    Elastic,
+    /// The same solid with the finite yield stress [`PLASTIC_YIELD_STRESS`].
+    Plastic,
+}
+
+/// A material name that is none of [`Mpm88Material::ALL`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown material `{0}`: expected one of {names}", names = Mpm88Material::names())]
+pub struct UnknownMpm88Material(pub String);
+
+impl Mpm88Material {
+    /// Every material, in the order the benchmark runs them.
+    pub const ALL: [Mpm88Material; 3] = [
+        Mpm88Material::Liquid,
+        Mpm88Material::Elastic,
+        Mpm88Material::Plastic,
+    ];
+
+    /// The name (`liquid`, `elastic`, `plastic`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Mpm88Material::Liquid => "liquid",
+            Mpm88Material::Elastic => "elastic",
+            Mpm88Material::Plastic => "plastic",
+        }
+    }
+
+    /// The names, comma separated.
+    pub fn names() -> String {
+        Mpm88Material::ALL.map(Mpm88Material::name).join(", ")
+    }
+
+    /// The MPM material at density 1.
+    pub fn material(self) -> Material {
+        let solid = |yield_stress| {
+            Material::Elastoplastic(ElastoplasticMaterial {
+                density: 1.0,
+                youngs_modulus: SOLID_YOUNGS_MODULUS,
+                poisson_ratio: SOLID_POISSON_RATIO,
+                yield_stress,
+            })
+        };
+        match self {
+            Mpm88Material::Liquid => Material::Liquid(LiquidMaterial {
+                density: 1.0,
+                bulk_modulus: YOUNGS_MODULUS,
+                viscosity: 0.0,
+            }),
+            Mpm88Material::Elastic => solid(f64::INFINITY),
+            Mpm88Material::Plastic => solid(PLASTIC_YIELD_STRESS),
+        }
+    }
+}
+
+/// Accepts the names of [`Mpm88Material::name`], in any case.
+impl FromStr for Mpm88Material {
+    type Err = UnknownMpm88Material;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let lower = text.trim().to_ascii_lowercase();
+        Mpm88Material::ALL
+            .into_iter()
+            .find(|material| material.name() == lower)
+            .ok_or_else(|| UnknownMpm88Material(text.to_string()))
+    }
+}
 
 impl Mpm88 {
     /// The configuration for `particles` (8,192 or 32,768), or `None` for another count.
@@ -45,25 +149,25 @@ impl Mpm88 {
         1.0 / self.nodes as f64
     }
 
-    /// A solver holding the example's particles at `positions`.
-    pub fn solver(&self, positions: &[[f64; 2]], threads: usize) -> Result<Solver, MpmError> {
+    /// A solver holding the example's particles of `material` at `positions`.
+    pub fn solver(
+        &self,
+        positions: &[[f64; 2]],
+        material: Mpm88Material,
+        threads: usize,
+    ) -> Result<Solver, MpmError> {
         let grid = GridSpec {
             origin: [0.0, 0.0],
             spacing: self.spacing(),
             nodes: [self.nodes, self.nodes],
             walls: Walls { low: 3, high: 2 },
         };
-        let material = Material::Liquid(LiquidMaterial {
-            density: 1.0,
-            bulk_modulus: YOUNGS_MODULUS,
-            viscosity: 0.0,
-        });
         let settings = Settings {
             gravity: [0.0, -GRAVITY],
             threads,
             ..Settings::default()
         };
-        let mut solver = Solver::new(grid, vec![material], &[], settings)?;
+        let mut solver = Solver::new(grid, vec![material.material()], &[], settings)?;
         let volume = (self.spacing() * 0.5).powi(2);
         for &position in positions {
             solver.add_particle(0, position, [0.0, -1.0], volume)?;
@@ -81,7 +185,7 @@ pub struct Summary {
     pub mean_y: f64,
     /// `½ · Σ m |v|²`.
     pub kinetic_energy: f64,
-    /// Mean volume ratio.
+    /// Mean volume ratio (solids: mean `det F`).
     pub mean_j: f64,
 }
 

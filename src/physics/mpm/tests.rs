@@ -1,5 +1,5 @@
 use super::collider::project;
-use super::mpm88::{Mpm88, summary};
+use super::mpm88::{Mpm88, Mpm88Material, summary};
 use super::*;
 
 fn open_grid(nodes: usize, spacing: f64) -> GridSpec {
@@ -364,7 +364,7 @@ fn mpm88_after_2000_substeps_matches_taichi_f64() {
     .unwrap();
     let positions = crate::util::npy::read_points(&init).unwrap();
     let config = Mpm88::for_particles(positions.len()).unwrap();
-    let mut solver = config.solver(&positions, 1).unwrap();
+    let mut solver = config.solver(&positions, Mpm88Material::Liquid, 1).unwrap();
     for _ in 0..2000 {
         solver.step(config.time_step).unwrap();
     }
@@ -385,6 +385,42 @@ fn mpm88_after_2000_substeps_matches_taichi_f64() {
     assert!(
         close(summary.mean_j, 0.998_528_778_351_038_1),
         "{summary:?}"
+    );
+}
+
+#[test]
+fn mpm88_solids_land_finite_and_only_the_plastic_one_yields() {
+    // The benchmark's solids on the example's configuration: the block falls for 0.12 s, lands
+    // on the floor wall by 0.16 s (800 substeps) and neither explodes nor leaves the grid; the
+    // elastic solid never yields and the plastic one does. Their `J = det F` stays near 1.
+    let init = fs_err::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/mpm88/init_8192_seed0.npy"
+    ))
+    .unwrap();
+    let positions = crate::util::npy::read_points(&init).unwrap();
+    let config = Mpm88::for_particles(positions.len()).unwrap();
+    for material in [Mpm88Material::Elastic, Mpm88Material::Plastic] {
+        let mut solver = config.solver(&positions, material, 2).unwrap();
+        for _ in 0..800 {
+            solver.step(config.time_step).unwrap();
+        }
+        let summary = summary(&solver);
+        let counters = solver.counters();
+        assert_eq!(
+            (counters.clamped, counters.stretch_clamped),
+            (0, 0),
+            "{material:?}"
+        );
+        assert_eq!(counters.yielded > 0, material == Mpm88Material::Plastic);
+        assert!(summary.mean_y < 0.4 && summary.mean_y > 0.1, "{summary:?}");
+        assert!((summary.mean_j - 1.0).abs() < 0.05, "{summary:?}");
+        assert!(summary.kinetic_energy.is_finite(), "{summary:?}");
+    }
+    assert_eq!("Plastic".parse(), Ok(Mpm88Material::Plastic));
+    assert_eq!(
+        "fluids".parse::<Mpm88Material>().unwrap_err().to_string(),
+        "unknown material `fluids`: expected one of liquid, elastic, plastic"
     );
 }
 
