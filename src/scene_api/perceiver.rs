@@ -28,6 +28,7 @@ use super::error::ApiError;
 use super::scene::PerceptionModels;
 use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
+use crate::perception::camera::CameraModel;
 use crate::perception::classes::{Class, ClassTable, ClassWords, ScenarioClasses};
 use crate::perception::closer::look_closer;
 use crate::perception::color::{ColorModel, features, name_colors, wall_color};
@@ -519,6 +520,38 @@ fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
         let count = shared(&tracks[t], &first[f]);
         (count > 0).then(|| 1.0 / count as f64)
     })
+}
+
+/// The projection of the release's camera record onto frames of `size` (width, height).
+pub(crate) fn camera_model(camera: &crate::dataset::Camera, size: (u32, u32)) -> CameraModel {
+    CameraModel::from_unity_euler(
+        camera.position,
+        camera.rotation_deg,
+        camera.vertical_fov_deg,
+        size.0,
+        size.1,
+    )
+}
+
+/// Annotated objects of one kind, those a scene reading read right, and those read that are
+/// not there (the scenarios' reading checks, `bench perception`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub(crate) struct KindCheck {
+    /// Annotated objects.
+    pub annotated: usize,
+    /// Read with the right name at the right place.
+    pub right: usize,
+    /// Read objects with no annotated object of their name, or at the wrong place.
+    pub wrong: usize,
+}
+
+impl KindCheck {
+    /// Adds `other`'s counts.
+    pub(crate) fn add(&mut self, other: KindCheck) {
+        self.annotated += other.annotated;
+        self.right += other.right;
+        self.wrong += other.wrong;
+    }
 }
 
 /// What a perfect detector finds: a video's segmentation truth on `frames` as detections, each

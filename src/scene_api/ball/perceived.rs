@@ -115,16 +115,7 @@ pub(crate) fn perceive_scene(
     Ok(perceived)
 }
 
-/// The projection of the video's camera onto its frames.
-pub(crate) fn camera_model(camera: &Camera, size: (u32, u32)) -> CameraModel {
-    CameraModel::from_unity_euler(
-        camera.position,
-        camera.rotation_deg,
-        camera.vertical_fov_deg,
-        size.0,
-        size.1,
-    )
-}
+pub(crate) use crate::scene_api::perceiver::camera_model;
 
 /// A slab placed in the world.
 #[derive(Debug, Clone)]

@@ -29,24 +29,7 @@ use crate::scene_api::{ApiError, PerceptionModels};
 /// slab is 0.2 thick, and a ball 1 across.
 pub(crate) const MATCH_RADIUS: f64 = 0.2;
 
-/// Annotated objects of one kind, those read right, and those read that are not there.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub(crate) struct KindCheck {
-    /// Annotated objects.
-    pub annotated: usize,
-    /// Read with the right name (and a slab at the right place).
-    pub right: usize,
-    /// Read objects with no annotated object of their name, or at the wrong place.
-    pub wrong: usize,
-}
-
-impl KindCheck {
-    fn add(&mut self, other: KindCheck) {
-        self.annotated += other.annotated;
-        self.right += other.right;
-        self.wrong += other.wrong;
-    }
-}
+pub(crate) use crate::scene_api::perceiver::KindCheck;
 
 /// Readings of one kind of answer: right, wrong, and "cannot tell".
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]

@@ -102,16 +102,7 @@ struct Placed {
     points: Vec<[f64; 2]>,
 }
 
-/// The projection of the video's camera onto its frames.
-pub(crate) fn camera_model(camera: &Camera, size: (u32, u32)) -> CameraModel {
-    CameraModel::from_unity_euler(
-        camera.position,
-        camera.rotation_deg,
-        camera.vertical_fov_deg,
-        size.0,
-        size.1,
-    )
-}
+pub(crate) use crate::scene_api::perceiver::camera_model;
 
 /// The world points of a mask's pixel centres on the plane `z`.
 pub(crate) fn lift_mask(model: &CameraModel, mask: &InstanceMask, z: f64) -> Vec<[f64; 2]> {

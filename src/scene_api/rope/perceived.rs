@@ -193,20 +193,7 @@ pub(crate) fn perceive_mechanism(
 /// not seen in that frame).
 pub(crate) type PerceivedPositions = Vec<(String, Vec<Option<[f64; 3]>>)>;
 
-/// The world positions of the named objects in every frame of the video: the detector's
-/// tracks over all frames ([`Perceiver::full_pass`]), their mask centroids lifted onto the
-/// scene plane (`z = 0`, where the release lays out every rope scene) along the camera's
-/// viewing rays.
-/// The projection of the release's camera record onto frames of `size` (width, height).
-pub(crate) fn camera_model(camera: &Camera, size: (u32, u32)) -> CameraModel {
-    CameraModel::from_unity_euler(
-        camera.position,
-        camera.rotation_deg,
-        camera.vertical_fov_deg,
-        size.0,
-        size.1,
-    )
-}
+pub(crate) use crate::scene_api::perceiver::camera_model;
 
 pub(crate) fn perceived_positions(
     perceiver: &mut Perceiver,
