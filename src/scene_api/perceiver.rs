@@ -522,6 +522,19 @@ fn assign_to_first(tracks: &[Track], first: &[Track]) -> Vec<Option<usize>> {
     })
 }
 
+/// The video's camera record, which reading a scene from pixels needs (the one part of the
+/// annotation `--perception maskrcnn` reads), or the error saying it is missing.
+pub(crate) fn calibration(
+    camera: Option<&crate::dataset::Camera>,
+) -> Result<&crate::dataset::Camera, ApiError> {
+    camera.ok_or_else(|| {
+        ApiError::Unavailable(
+            "perception needs the camera calibration (outputCamera), which this video lacks"
+                .to_string(),
+        )
+    })
+}
+
 /// The projection of the release's camera record onto frames of `size` (width, height).
 pub(crate) fn camera_model(camera: &crate::dataset::Camera, size: (u32, u32)) -> CameraModel {
     CameraModel::from_unity_euler(

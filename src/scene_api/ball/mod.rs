@@ -51,7 +51,7 @@ use crate::dataset::ball::outcome::{Pit, PitRecord};
 use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
 use crate::dataset::{FourDData, Scenario};
 use crate::perception::ball::PERCEPTION;
-use crate::scene_api::perceiver::Perceiver;
+use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
@@ -74,12 +74,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     }
     // `--perception maskrcnn`: of the annotation only the camera calibration is read, unless
     // the dynamics are the annotation's (whose recorded runs are keyed by its names).
-    let camera = annotation.camera.clone().ok_or_else(|| {
-        ApiError::Unavailable(
-            "perception needs the camera calibration (outputCamera), which this video lacks"
-                .to_string(),
-        )
-    })?;
+    let camera = calibration(annotation.camera.as_ref())?.clone();
     let mut perceiver = Perceiver::open(
         &spec.video_dir,
         spec.perception_models()?,
@@ -244,12 +239,7 @@ impl BallBackend {
     /// Each ball's path from the detector's masks over the whole video (no material: the fit
     /// decides).
     fn balls_from_pixels(&self, perceiver: &mut Perceiver) -> Result<Vec<SeenBall>, ApiError> {
-        let camera = self.annotation.camera.as_ref().ok_or_else(|| {
-            ApiError::Unavailable(
-                "perception needs the camera calibration (outputCamera), which this video lacks"
-                    .to_string(),
-            )
-        })?;
+        let camera = calibration(self.annotation.camera.as_ref())?;
         let (width, height, _) = perceiver.frames();
         let model = perceived::camera_model(camera, (width, height));
         perceived::seen_balls(perceiver, &self.annotation.layout, &model)

@@ -67,7 +67,7 @@ use crate::dataset::fluid::{
 };
 use crate::dataset::{FourDData, Scenario};
 use crate::perception::fluid::PERCEPTION;
-use crate::scene_api::perceiver::Perceiver;
+use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
     SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
@@ -151,12 +151,7 @@ impl FluidBackend {
         }
         // `--perception maskrcnn`: of the annotation only the camera calibration is read,
         // unless the dynamics are the annotation's (whose recorded runs are keyed by its names).
-        let camera = annotation.camera.clone().ok_or_else(|| {
-            ApiError::Unavailable(
-                "perception needs the camera calibration (outputCamera), which this video lacks"
-                    .to_string(),
-            )
-        })?;
+        let camera = calibration(annotation.camera.as_ref())?.clone();
         let mut perceiver = Perceiver::open(
             &spec.video_dir,
             spec.perception_models()?,
@@ -256,12 +251,7 @@ impl FluidBackend {
     /// What the detector sees of the fluids over the frames the inference reads (`--perception
     /// maskrcnn`), each fluid named by its emitters' colour.
     fn seen_flow(&self, perceiver: &mut Perceiver) -> Result<SeenFlow, ApiError> {
-        let camera = self.annotation.camera.as_ref().ok_or_else(|| {
-            ApiError::Unavailable(
-                "perception needs the camera calibration (outputCamera), which this video lacks"
-                    .to_string(),
-            )
-        })?;
+        let camera = calibration(self.annotation.camera.as_ref())?;
         let (width, height, frame_count) = perceiver.frames();
         let model = perceived::camera_model(camera, (width, height));
         let fluids = seen::fluid_colors(&self.annotation.layout);
