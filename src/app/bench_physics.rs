@@ -156,6 +156,18 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
             {
                 Reduction::Largest => differences.fold(0.0_f64, f64::max),
                 Reduction::Mean => differences.sum::<f64>() / expected.len().max(1) as f64,
+                Reduction::DecidedMean => {
+                    let (sum, count) = got
+                        .iter()
+                        .zip(expected)
+                        .filter(|(_, expected)| {
+                            expected.abs() < 1e-9 || (*expected - 1.0).abs() < 1e-9
+                        })
+                        .fold((0.0, 0usize), |(sum, count), (a, b)| {
+                            (sum + (a - b).abs(), count + 1)
+                        });
+                    if count == 0 { 0.0 } else { sum / count as f64 }
+                }
             }
         })
         .collect()
@@ -543,5 +555,18 @@ mod tests {
             &vec![vec![1.0, 1.0, 1.0, 0.0]],
         );
         assert!((share[0] - 0.5).abs() < 1e-15, "{share:?}");
+        // A decided mean: only where the reference's ensemble agrees (0 or 1), here the first
+        // and last labels; the reference's split label (⅓) is left out. None decided: 0.
+        let decided = [ErrorMeasure {
+            key: "decided",
+            reduction: Reduction::DecidedMean,
+            tolerance: Some(0.01),
+            plotted: false,
+        }];
+        let reference = vec![vec![1.0, 1.0 / 3.0, 0.0]];
+        let got = errors(&decided, &vec![vec![2.0 / 3.0, 1.0, 0.0]], &reference);
+        assert!((got[0] - 1.0 / 6.0).abs() < 1e-15, "{got:?}");
+        let split = errors(&decided, &vec![vec![1.0]], &vec![vec![0.5]]);
+        assert_eq!(split, vec![0.0]);
     }
 }

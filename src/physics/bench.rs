@@ -110,6 +110,10 @@ pub enum Reduction {
     Largest,
     /// The mean absolute difference (of 0/1 labels: the share that differ).
     Mean,
+    /// The mean absolute difference over the quantities the reference holds at exactly 0 or 1:
+    /// of labels that are shares of an ensemble's runs, those every run of the reference's
+    /// ensemble agrees on (none: 0).
+    DecidedMean,
 }
 
 /// One error measure of a benchmark.

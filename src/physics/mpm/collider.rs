@@ -177,8 +177,10 @@ pub(super) struct ColliderGrid {
 }
 
 impl ColliderGrid {
-    /// Rasterises `colliders` onto the nodes of `grid`.
-    pub(super) fn new(grid: &GridSpec, colliders: &[Collider]) -> ColliderGrid {
+    /// Rasterises `colliders` onto the nodes of `grid`: a node is held by the collider it lies
+    /// deepest in, counting nodes up to `layer` cells outside its surface (see
+    /// [`super::Settings::collider_layer`]).
+    pub(super) fn new(grid: &GridSpec, colliders: &[Collider], layer: f64) -> ColliderGrid {
         let node_count = grid.nodes[0] * grid.nodes[1];
         let mut rasterised = ColliderGrid {
             colliders: colliders.to_vec(),
@@ -190,6 +192,7 @@ impl ColliderGrid {
             return rasterised;
         }
         let margin = 2.0 * grid.spacing;
+        let held = layer * grid.spacing;
         for i in 0..grid.nodes[0] {
             for j in 0..grid.nodes[1] {
                 let index = i * grid.nodes[1] + j;
@@ -200,7 +203,7 @@ impl ColliderGrid {
                 let deepest = distances.clone().min_by(|a, b| a.0.0.total_cmp(&b.0.0));
                 if let Some(((distance, normal), boundary)) = deepest {
                     rasterised.near[index] = distance < margin;
-                    if distance < 0.0 {
+                    if distance < held {
                         rasterised.node_constraint[index] =
                             u32::try_from(rasterised.constraints.len()).unwrap_or(u32::MAX);
                         rasterised.constraints.push((normal, boundary));

@@ -272,6 +272,21 @@ impl RigidBodies {
 
 /// Adding, coupling and moving the rigid discs of a solver.
 impl Solver {
+    /// Adds `change` to the velocity of every particle of `material`: an impulse on the body
+    /// as a whole, which the caller computes between advances (a soft body's restitution at a
+    /// contact). Returns whether any particle is of `material`.
+    pub fn add_velocity(&mut self, material: usize, change: [f64; 2]) -> bool {
+        let mut any = false;
+        for (state, constants) in self.state.iter_mut().zip(&self.constants) {
+            if constants.material as usize == material {
+                state.velocity[0] += change[0];
+                state.velocity[1] += change[1];
+                any = true;
+            }
+        }
+        any
+    }
+
     /// Slows the rigid rotation of the particles of `material` about their centre of mass by up
     /// to `most` rad/s (a soft body's rolling resistance, which the caller applies between
     /// advances while the body touches a surface): that much spin leaves their velocities and

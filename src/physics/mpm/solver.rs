@@ -55,6 +55,13 @@ pub struct Settings {
     pub max_substeps: u64,
     /// Worker threads (1 = serial; results are the same bytes for any count).
     pub threads: usize,
+    /// How far outside a collider's surface grid nodes are still held by it, in cells. At 0
+    /// only nodes inside are held, and the first held row lies anywhere from 0 to a cell under
+    /// the surface as the collider sits against the grid: a solid reaching the surface before
+    /// the grid stops it is put back with its approaching velocity removed, so an elastic
+    /// disc regains from 33% to 89% of its drop height with that offset (dx 0.1). At 0.5 the held
+    /// row lies within half a cell of the surface and the restitution stays within 0.01.
+    pub collider_layer: f64,
 }
 
 impl Default for Settings {
@@ -64,6 +71,7 @@ impl Default for Settings {
             cfl: 0.5,
             max_substeps: 2_000_000,
             threads: 1,
+            collider_layer: 0.0,
         }
     }
 }
@@ -148,6 +156,13 @@ impl Solver {
                 settings.cfl
             )));
         }
+        if !(settings.collider_layer.is_finite() && (0.0..=1.0).contains(&settings.collider_layer))
+        {
+            return Err(MpmError::InvalidGrid(format!(
+                "collider layer {} is not 0 to 1 cells",
+                settings.collider_layer
+            )));
+        }
         if !(settings.gravity[0].is_finite() && settings.gravity[1].is_finite()) {
             return Err(MpmError::InvalidGrid(format!(
                 "gravity {:?} is not finite",
@@ -159,7 +174,7 @@ impl Solver {
             .build()
             .map_err(|error| MpmError::ThreadPool(error.to_string()))
             .map(std::sync::Arc::new)?;
-        let colliders = ColliderGrid::new(&grid, colliders);
+        let colliders = ColliderGrid::new(&grid, colliders, settings.collider_layer);
         let node_count = grid.nodes[0] * grid.nodes[1];
         Ok(Solver {
             grid,

@@ -30,6 +30,27 @@ pub const BALL_RADIUS: f64 = 0.5;
 /// tuning videos of seed 11 the counterfactual and predictive agreement fell (C-Opt. 86.3 →
 /// 83.0, P 86.0 → 83.7; at 0.1: 85.2 and 86.0, goal-driven 81.0 → 76.2).
 const SOFT_ROLLING_RESISTANCE: f64 = 0.0;
+/// See [`BallModel::collider_layer`]: none, nodes inside the slabs only. Half a cell makes a
+/// soft ball's bounce independent of where the slabs sit against the grid and the same from a
+/// grid spacing of 0.2 to 0.03 (an elastic ball's 2.5-unit drop rebounds to 2.62-2.69), but
+/// that ball bounces higher than the truth's (2.68 against 1.46) and the simulation fit then
+/// reads the materials worse: on the 30 tuning videos of seed 11, 17 of 30 elastic balls right
+/// against 25, the property answers 56.7% against 83.3% (counterfactual options 85.9% against
+/// 86.3%, predictive 90.7% against 86.0%). A dissipation that does not depend on the grid is
+/// what the default needs before it can converge ([`BallModel::restitution`] is one).
+const COLLIDER_LAYER: f64 = 0.0;
+/// See [`BallModel::restitution`]: none, the bounce the grid gives. The truth solver's own,
+/// from its 2.5-unit drops (elastic back to 1.46, plastic to 1.09: `√((h − r)/(3 − r))`), is
+/// [0.62, 0.49]; with half-cell held nodes it makes the balls' rebounds the truth's at every
+/// spacing from 0.2 to 0.05 (1.48 to 1.58 and 1.09 to 1.21), and with the model's own
+/// materials as the fit's hypotheses 26 of the 30 elastic balls of seed 11 were read right
+/// (against 25), but the answers on those 30 tuning videos moved from 83.3 / 86.3 / 79.4 / 81.0
+/// / 61.9 / 86.0 (Prop., C-Opt., C-Ques., G-Opt., G-Ques., P) to 86.7 / 81.9 / 72.8 / 76.2 /
+/// 54.8 / 88.4, so it is not the default.
+const RESTITUTION: [f64; 2] = [1.0, 1.0];
+/// The slowest approach whose rebound [`BallModel::restitution`] caps, units/s (a fall of 0.05
+/// units).
+const BOUNCE_SPEED: f64 = 1.0;
 /// A soft ball whose centre is within this of a slab beyond its radius touches it, units (it
 /// flattens where it presses).
 const CONTACT_SLACK: f64 = 0.05;
@@ -118,6 +139,14 @@ pub struct BallModel {
     /// spin slows by up to `2 c g cos θ / r` per second (a torque of `c` times the normal force
     /// times the radius on a disc), applied after each update.
     pub soft_rolling_resistance: f64,
+    /// How far outside the slabs grid nodes are still held, in cells
+    /// ([`Settings::collider_layer`]).
+    pub collider_layer: f64,
+    /// The most of its approach speed the elastic and the plastic ball leave a slab with (the
+    /// coefficient of restitution of their bounce; 1: as the grid gives it). While a soft ball
+    /// touches a slab, a separating normal speed above this share of the fastest approach of
+    /// that contact is taken off the ball as a whole, once an update.
+    pub restitution: [f64; 2],
     /// Worker threads of the solver (results are the same bytes for any count).
     pub threads: usize,
 }
@@ -134,6 +163,8 @@ impl Default for BallModel {
             rigid_friction: 0.0,
             rolling_resistance: 0.14,
             soft_rolling_resistance: SOFT_ROLLING_RESISTANCE,
+            collider_layer: COLLIDER_LAYER,
+            restitution: RESTITUTION,
             threads: 1,
         }
     }
@@ -255,6 +286,7 @@ pub fn run(
     let settings = Settings {
         cfl: model.cfl,
         threads: model.threads,
+        collider_layer: model.collider_layer,
         ..Settings::default()
     };
     let grid = grid_around(&slabs, balls, model.spacing);
@@ -286,6 +318,8 @@ pub fn run(
         }
     }
     let mut centres: Vec<Vec<[f64; 2]>> = vec![Vec::new(); balls.len()];
+    // Per soft ball, the fastest approach speed of the contact it is in.
+    let mut approach: Vec<Option<f64>> = vec![None; balls.len()];
     let mut updates = 0;
     while updates < max_updates {
         solver.advance(UPDATE_SECONDS)?;
@@ -305,6 +339,20 @@ pub fn run(
                 if rigid_index[index].is_none() {
                     rolling.push((index, centre));
                 }
+            }
+        }
+        for &(index, _) in &rolling {
+            let restitution = match balls.get(index).map(|ball| ball.material) {
+                Some(ElasticityType::Elastic) => model.restitution[0],
+                Some(ElasticityType::Plastic) => model.restitution[1],
+                _ => continue,
+            };
+            if restitution >= 1.0 {
+                continue;
+            }
+            let change = bounce_cap(&slabs, &particles, index, restitution, &mut approach[index]);
+            if let Some(change) = change {
+                solver.add_velocity(index, change);
             }
         }
         for (index, centre) in rolling {
@@ -349,6 +397,55 @@ fn soft_spin_loss(slabs: &[&StadiumSlab], centre: [f64; 2], model: &BallModel) -
     let gravity = Settings::default().gravity[1].abs();
     (gap < BALL_RADIUS + CONTACT_SLACK && normal[1] > 0.0).then(|| {
         2.0 * model.soft_rolling_resistance * gravity * normal[1] / BALL_RADIUS * UPDATE_SECONDS
+    })
+}
+
+/// The velocity change that caps ball `index`'s bounce off the slab it touches at
+/// `restitution` of the fastest approach of this contact (`approach`, kept between updates and
+/// cleared when it leaves every slab); `None` when nothing is taken off.
+fn bounce_cap(
+    slabs: &[&StadiumSlab],
+    particles: &[(crate::physics::mpm::ParticleState, usize, f64)],
+    index: usize,
+    restitution: f64,
+    approach: &mut Option<f64>,
+) -> Option<[f64; 2]> {
+    let (mut position, mut velocity, mut count) = ([0.0; 2], [0.0; 2], 0usize);
+    for (state, which, _) in particles {
+        if *which == index {
+            for axis in 0..2 {
+                position[axis] += state.position[axis];
+                velocity[axis] += state.velocity[axis];
+            }
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let centre = [position[0] / count as f64, position[1] / count as f64];
+    let velocity = [velocity[0] / count as f64, velocity[1] / count as f64];
+    let nearest = slabs
+        .iter()
+        .map(|slab| signed_distance(centre, slab.start, slab.end, slab.thickness))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    // The approach is read from a radius away: a falling ball crosses the contact slack
+    // within an update.
+    let Some((gap, normal)) = nearest.filter(|(gap, _)| *gap < 2.0 * BALL_RADIUS) else {
+        *approach = None;
+        return None;
+    };
+    let normal_speed = velocity[0] * normal[0] + velocity[1] * normal[1];
+    if normal_speed < 0.0 {
+        *approach = Some(approach.unwrap_or(0.0).max(-normal_speed));
+        return None;
+    }
+    let _ = gap;
+    // Only a bounce is capped: not a ball rolling over an edge or settling.
+    let most = restitution * approach.filter(|speed| *speed >= BOUNCE_SPEED)?;
+    (normal_speed > most && normal_speed.is_finite()).then(|| {
+        let excess = normal_speed - most;
+        [-excess * normal[0], -excess * normal[1]]
     })
 }
 
@@ -402,20 +499,21 @@ fn elongation(
 mod tests {
     use super::*;
 
-    /// A ball dropped from a centre height of 3 onto a floor slab whose top is at 0: the
-    /// highest its centre gets after the first rebound.
-    fn rebound(material: ElasticityType, model: &BallModel) -> f64 {
+    /// A ball dropped from a centre height of 3 onto a floor slab whose top is at `floor`
+    /// (0 lies on a grid node: the grid's origin is 3.5 units under the floor): the highest its
+    /// centre gets above the floor after the first rebound.
+    fn rebound_over(material: ElasticityType, model: &BallModel, floor: f64) -> f64 {
         let stadium = Stadium {
             slabs: vec![StadiumSlab {
-                start: [-3.0, -0.1],
-                end: [3.0, -0.1],
+                start: [-3.0, floor - 0.1],
+                end: [3.0, floor - 0.1],
                 thickness: 0.2,
                 wall: None,
             }],
         };
         let ball = BallStart {
             material,
-            centre: [0.0, 3.0],
+            centre: [0.0, floor + 3.0],
             velocity: [0.0; 2],
             angular_velocity: 0.0,
         };
@@ -428,22 +526,26 @@ mod tests {
                 rebounded = true;
             }
             if rebounded {
-                highest = highest.max(pair[1][1]);
+                highest = highest.max(pair[1][1] - floor);
             }
         }
         highest
+    }
+
+    fn rebound(material: ElasticityType, model: &BallModel) -> f64 {
+        rebound_over(material, model, 0.0)
     }
 
     #[test]
     fn the_three_materials_rebound_as_the_release_s_balls_do() {
         // The generator's truth solver, same drop: elastic 1.46, plastic 1.09, rigid no bounce.
         // Measured here: elastic 1.35 (stiffer gives no more: 1.37 at E 3200, the grid's
-        // dissipation), plastic 1.23 (yield 200 gives 1.02), rigid none.
+        // dissipation), plastic 1.23 (yield 200 gives 1.02), rigid none. The floor lies on a
+        // node row, where the grid takes the most from a bounce (see the next test).
         let model = BallModel::default();
         let elastic = rebound(ElasticityType::Elastic, &model);
         let plastic = rebound(ElasticityType::Plastic, &model);
         let rigid = rebound(ElasticityType::Rigid, &model);
-        eprintln!("elastic {elastic} plastic {plastic}");
         assert!((1.25..1.5).contains(&elastic), "elastic {elastic}");
         assert!((1.0..1.3).contains(&plastic), "plastic {plastic}");
         assert!(
@@ -454,6 +556,65 @@ mod tests {
             rigid == f64::NEG_INFINITY,
             "the rigid ball rebounded to {rigid}"
         );
+    }
+
+    #[test]
+    fn held_nodes_half_a_cell_outside_the_slabs_make_a_bounce_independent_of_the_grid() {
+        // Nodes inside the slab only (the default): an elastic ball rebounds to 1.34 with the
+        // floor on a node row and 2.67 a third of a cell above it. Half a cell outside too:
+        // 2.67 to 2.69 over the three offsets, and 2.51 to 2.55 at twice the spacing.
+        let inside_only = BallModel::default();
+        let on_node = rebound_over(ElasticityType::Elastic, &inside_only, 0.0);
+        let between = rebound_over(ElasticityType::Elastic, &inside_only, 0.033);
+        assert!(
+            between - on_node > 0.5,
+            "inside only: {on_node} on a node row, {between} between rows"
+        );
+        let layered = BallModel {
+            collider_layer: 0.5,
+            ..BallModel::default()
+        };
+        let heights: Vec<f64> = [0.0, 0.033, 0.066]
+            .iter()
+            .map(|&floor| rebound_over(ElasticityType::Elastic, &layered, floor))
+            .collect();
+        let spread = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - heights.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(spread < 0.05, "half a cell: {heights:?}");
+        let coarse = BallModel {
+            spacing: 0.2,
+            ..layered.clone()
+        };
+        let coarse_height = rebound_over(ElasticityType::Elastic, &coarse, 0.033);
+        assert!(
+            (coarse_height - heights[1]).abs() < 0.25,
+            "half a cell at spacing 0.2: {coarse_height}, at 0.1: {heights:?}"
+        );
+    }
+
+    #[test]
+    fn a_restitution_cap_gives_the_truth_s_rebounds_at_any_spacing() {
+        // The truth solver's drops rebound to 1.46 (elastic) and 1.09 (plastic). With half-cell
+        // held nodes and the truth's restitution the model's do too, over grid spacings and
+        // floor offsets: 1.48 to 1.58 and 1.09 to 1.21 measured from 0.2 to 0.05.
+        let capped = BallModel {
+            collider_layer: 0.5,
+            restitution: [0.62, 0.49],
+            ..BallModel::default()
+        };
+        for spacing in [0.2, 0.1] {
+            let model = BallModel {
+                spacing,
+                ..capped.clone()
+            };
+            for floor in [0.0, 0.033] {
+                let elastic = rebound_over(ElasticityType::Elastic, &model, floor);
+                let plastic = rebound_over(ElasticityType::Plastic, &model, floor);
+                let case = format!("spacing {spacing}, floor {floor}");
+                assert!((1.4..1.65).contains(&elastic), "{case}: elastic {elastic}");
+                assert!((1.0..1.3).contains(&plastic), "{case}: plastic {plastic}");
+            }
+        }
     }
 
     /// How fast a ball of `material` rolls down a 30° slope, as a share of g sin θ: from rest on
