@@ -353,16 +353,21 @@ fn serial_and_parallel_runs_give_the_same_bytes() {
     );
 }
 
-#[test]
-fn mpm88_after_2000_substeps_matches_taichi_f64() {
-    // Taichi 1.7.4, f64, one thread, from the same float32 positions (benches/mpm88_taichi.py);
-    // Taichi's fast-math and non-fast-math runs differ by 1e-13, so the bound is 1e-10.
+/// The 8,192 float32 starting positions Taichi's run used (`benches/mpm88_taichi.py`).
+fn mpm88_positions() -> Vec<[f64; 2]> {
     let init = fs_err::read(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/mpm88/init_8192_seed0.npy"
     ))
     .unwrap();
-    let positions = crate::util::npy::read_points(&init).unwrap();
+    crate::util::npy::read_points(&init).unwrap()
+}
+
+#[test]
+fn mpm88_after_2000_substeps_matches_taichi_f64() {
+    // Taichi 1.7.4, f64, one thread, from the same float32 positions (benches/mpm88_taichi.py);
+    // Taichi's fast-math and non-fast-math runs differ by 1e-13, so the bound is 1e-10.
+    let positions = mpm88_positions();
     let config = Mpm88::for_particles(positions.len()).unwrap();
     let mut solver = config.solver(&positions, Mpm88Material::Liquid, 1).unwrap();
     for _ in 0..2000 {
@@ -393,12 +398,7 @@ fn mpm88_solids_land_finite_and_only_the_plastic_one_yields() {
     // The benchmark's solids on the example's configuration: the block falls for 0.12 s, lands
     // on the floor wall by 0.16 s (800 substeps) and neither explodes nor leaves the grid; the
     // elastic solid never yields and the plastic one does. Their `J = det F` stays near 1.
-    let init = fs_err::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/mpm88/init_8192_seed0.npy"
-    ))
-    .unwrap();
-    let positions = crate::util::npy::read_points(&init).unwrap();
+    let positions = mpm88_positions();
     let config = Mpm88::for_particles(positions.len()).unwrap();
     for material in [Mpm88Material::Elastic, Mpm88Material::Plastic] {
         let mut solver = config.solver(&positions, material, 2).unwrap();

@@ -332,7 +332,7 @@ pub fn run(
             }
             let centre = match rigid_index[index] {
                 Some(body) => solver.rigid_bodies().get(body).map(|body| body.center),
-                None => mean_position(&particles, index),
+                None => particle_mean(&particles, index, |state| state.position),
             };
             if let Some(centre) = centre {
                 track.push(centre);
@@ -341,21 +341,19 @@ pub fn run(
                 }
             }
         }
-        for &(index, _) in &rolling {
+        for (index, centre) in rolling {
             let restitution = match balls.get(index).map(|ball| ball.material) {
                 Some(ElasticityType::Elastic) => model.restitution[0],
                 Some(ElasticityType::Plastic) => model.restitution[1],
-                _ => continue,
+                _ => 1.0,
             };
-            if restitution >= 1.0 {
-                continue;
-            }
-            let change = bounce_cap(&slabs, &particles, index, restitution, &mut approach[index]);
-            if let Some(change) = change {
+            if restitution < 1.0
+                && let Some(velocity) = particle_mean(&particles, index, |state| state.velocity)
+                && let Some(change) =
+                    bounce_cap(&slabs, centre, velocity, restitution, &mut approach[index])
+            {
                 solver.add_velocity(index, change);
             }
-        }
-        for (index, centre) in rolling {
             if let Some(most) = soft_spin_loss(&slabs, centre, model) {
                 solver.spin_down(index, most);
             }
@@ -390,48 +388,36 @@ fn soft_spin_loss(slabs: &[&StadiumSlab], centre: [f64; 2], model: &BallModel) -
     if model.soft_rolling_resistance <= 0.0 {
         return None;
     }
-    let (gap, normal) = slabs
-        .iter()
-        .map(|slab| signed_distance(centre, slab.start, slab.end, slab.thickness))
-        .min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let (gap, normal) = nearest_slab(slabs, centre)?;
     let gravity = Settings::default().gravity[1].abs();
     (gap < BALL_RADIUS + CONTACT_SLACK && normal[1] > 0.0).then(|| {
         2.0 * model.soft_rolling_resistance * gravity * normal[1] / BALL_RADIUS * UPDATE_SECONDS
     })
 }
 
-/// The velocity change that caps ball `index`'s bounce off the slab it touches at
-/// `restitution` of the fastest approach of this contact (`approach`, kept between updates and
-/// cleared when it leaves every slab); `None` when nothing is taken off.
+/// The signed distance from `centre` to the nearest slab and that slab's outward normal there.
+fn nearest_slab(slabs: &[&StadiumSlab], centre: [f64; 2]) -> Option<(f64, [f64; 2])> {
+    slabs
+        .iter()
+        .map(|slab| signed_distance(centre, slab.start, slab.end, slab.thickness))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// The velocity change that caps the bounce of a soft ball (centre `centre`, mean velocity
+/// `velocity`) off the slab it touches at `restitution` of the fastest approach of this contact
+/// (`approach`, kept between updates and cleared when it leaves every slab); `None` when nothing
+/// is taken off.
 fn bounce_cap(
     slabs: &[&StadiumSlab],
-    particles: &[(crate::physics::mpm::ParticleState, usize, f64)],
-    index: usize,
+    centre: [f64; 2],
+    velocity: [f64; 2],
     restitution: f64,
     approach: &mut Option<f64>,
 ) -> Option<[f64; 2]> {
-    let (mut position, mut velocity, mut count) = ([0.0; 2], [0.0; 2], 0usize);
-    for (state, which, _) in particles {
-        if *which == index {
-            for axis in 0..2 {
-                position[axis] += state.position[axis];
-                velocity[axis] += state.velocity[axis];
-            }
-            count += 1;
-        }
-    }
-    if count == 0 {
-        return None;
-    }
-    let centre = [position[0] / count as f64, position[1] / count as f64];
-    let velocity = [velocity[0] / count as f64, velocity[1] / count as f64];
-    let nearest = slabs
-        .iter()
-        .map(|slab| signed_distance(centre, slab.start, slab.end, slab.thickness))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
     // The approach is read from a radius away: a falling ball crosses the contact slack
     // within an update.
-    let Some((gap, normal)) = nearest.filter(|(gap, _)| *gap < 2.0 * BALL_RADIUS) else {
+    let Some((_, normal)) = nearest_slab(slabs, centre).filter(|(gap, _)| *gap < 2.0 * BALL_RADIUS)
+    else {
         *approach = None;
         return None;
     };
@@ -440,7 +426,6 @@ fn bounce_cap(
         *approach = Some(approach.unwrap_or(0.0).max(-normal_speed));
         return None;
     }
-    let _ = gap;
     // Only a bounce is capped: not a ball rolling over an edge or settling.
     let most = restitution * approach.filter(|speed| *speed >= BOUNCE_SPEED)?;
     (normal_speed > most && normal_speed.is_finite()).then(|| {
@@ -449,16 +434,19 @@ fn bounce_cap(
     })
 }
 
-fn mean_position(
+/// The mean of `field` over the particles of `material`; `None` when it has none.
+fn particle_mean(
     particles: &[(crate::physics::mpm::ParticleState, usize, f64)],
     material: usize,
+    field: impl Fn(&crate::physics::mpm::ParticleState) -> [f64; 2],
 ) -> Option<[f64; 2]> {
     let mut sum = [0.0; 2];
     let mut count = 0usize;
     for (state, which, _) in particles {
         if *which == material {
-            sum[0] += state.position[0];
-            sum[1] += state.position[1];
+            let value = field(state);
+            sum[0] += value[0];
+            sum[1] += value[1];
             count += 1;
         }
     }
@@ -470,7 +458,7 @@ fn elongation(
     particles: &[(crate::physics::mpm::ParticleState, usize, f64)],
     material: usize,
 ) -> f64 {
-    let Some(mean) = mean_position(particles, material) else {
+    let Some(mean) = particle_mean(particles, material, |state| state.position) else {
         return 0.0;
     };
     let (mut xx, mut xy, mut yy, mut count) = (0.0, 0.0, 0.0, 0usize);
