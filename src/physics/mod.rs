@@ -14,7 +14,10 @@
 //! * [`shape_matching`]: particle soft bodies held by shape matching, the ball scenario's truth
 //!   solver (the release's Obi Softbody settings).
 //! * [`mpm`]: 2D MLS-MPM (core plus materials), ContPRO's simulator for fluids and balls.
-//! * [`linalg`]: the small dense solvers they share; [`slab`]: the slabs' signed distance.
+//! * [`xpbd`]: XPBD cloth two-way coupled with rigid boxes, the cloth scenario's truth solver
+//!   (the release's Obi Cloth and PhysX settings).
+//! * [`linalg`]: the small dense solvers they share; [`slab`]: the slabs' signed distance;
+//!   [`vector3`]: 3-vectors, 3 × 3 matrices and quaternions.
 //! * [`bench`](mod@bench): what each simulator brings to `bench physics` (cases with known
 //!   answers).
 
@@ -25,3 +28,5 @@ pub mod mpm;
 pub mod rope;
 pub mod shape_matching;
 pub mod slab;
+pub mod vector3;
+pub mod xpbd;

@@ -23,7 +23,7 @@
 //! Units: lengths in scene units, times in seconds, masses in kilograms.
 
 use super::UPDATE_SECONDS;
-use super::matrix::{self, IDENTITY, Matrix, NO_ROTATION, Quaternion, Vector};
+use crate::physics::vector3::{self as matrix, IDENTITY, Matrix, NO_ROTATION, Quaternion, Vector};
 
 /// Particles of a ball: its centre, a shell of 18 halfway out and a shell of 72 at the surface
 /// (the release's balls have 91).

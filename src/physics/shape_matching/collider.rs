@@ -6,7 +6,7 @@
 //! thickness. Contact is the exact signed distance to the rectangle, so corners are rounded for
 //! a particle of radius `r`, and any angle works.
 
-use super::matrix::Vector;
+use crate::physics::vector3::Vector;
 
 /// A static slab: the rectangle around the segment `start`–`end` (units, x–y), `thickness` across.
 #[derive(Debug, Clone, PartialEq)]

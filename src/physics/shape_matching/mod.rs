@@ -29,14 +29,13 @@
 
 mod body;
 mod collider;
-pub mod matrix;
 
 pub use body::{
     Body, ELASTIC, PLASTIC, Plasticity, RIGID, SPHERE_PARTICLES, SoftMaterial, sphere_offsets,
 };
 pub use collider::{Contact, Slab};
 
-use matrix::Vector;
+use crate::physics::vector3::{self as matrix, Vector};
 
 /// Gravity of the release's softbody solver, units/s² (downwards).
 pub const GRAVITY: f64 = -9.8;

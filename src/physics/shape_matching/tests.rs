@@ -4,8 +4,8 @@
 //! its shape and rolls down a slope, nothing passes through a slab at the fastest speeds, and
 //! the bytes of a run never change.
 
-use super::matrix::{self, IDENTITY};
 use super::*;
+use crate::physics::vector3::{self as matrix, IDENTITY};
 
 const RADIUS: f64 = 0.5;
 

@@ -24,7 +24,7 @@ use serde_json::{Value, json};
 
 use crate::dataset::ball::{BallAnnotation, ElasticityType};
 use crate::dataset::{FourDData, VideoFolder};
-use crate::physics::shape_matching::matrix::{self, IDENTITY, NO_ROTATION, Vector};
+use crate::physics::vector3::{self as matrix, IDENTITY, NO_ROTATION, Vector};
 use crate::scene_api::ApiError;
 use crate::util::{derive_seed, seeded_rng};
 

@@ -13,8 +13,8 @@ use crate::dataset::ball::outcome::{
 };
 use crate::physics::shape_matching::{
     ELASTIC, PLASTIC, RIGID, Slab, SoftBodyError, SoftBodyParameters, SoftBodyWorld, SoftMaterial,
-    matrix::Matrix,
 };
+use crate::physics::vector3::Matrix;
 
 use super::layout::{BALL_RADIUS, Layout};
 

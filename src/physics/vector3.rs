@@ -1,6 +1,7 @@
-//! 3 × 3 matrices and 3-vectors for shape matching: products, determinant, inverse, and the
-//! rotation part of a matrix by Müller et al.'s iterative extraction ("A Robust Method to
-//! Extract the Rotational Part of Deformations", 2016).
+//! 3-vectors, 3 × 3 matrices and unit quaternions for the 3-D solvers (shape matching, cloth and
+//! rigid boxes): products, determinant, inverse, and the rotation part of a matrix by Müller et
+//! al.'s iterative extraction ("A Robust Method to Extract the Rotational Part of Deformations",
+//! 2016).
 //!
 //! Matrices are row-major `[[f64; 3]; 3]`. The rotation extraction is warm-started from the last
 //! substep's rotation, so a few iterations suffice, and it never divides by a vanishing number:
@@ -158,7 +159,7 @@ pub fn rotation_matrix(quaternion: Quaternion) -> Matrix {
 }
 
 /// `a b` (apply `b` first).
-fn quaternion_product(a: Quaternion, b: Quaternion) -> Quaternion {
+pub fn quaternion_product(a: Quaternion, b: Quaternion) -> Quaternion {
     [
         a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
         a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
