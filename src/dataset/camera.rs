@@ -1,7 +1,9 @@
 //! The camera calibration every scenario records (`outputCamera["Main Camera"]`): position,
-//! Unity Euler angles and vertical field of view.
+//! Unity Euler angles and vertical field of view; read from a file, and written back in the same
+//! form for annotation types that serialise themselves.
 
 use serde::Serialize;
+use serde_json::{Value, json};
 
 use super::DatasetError;
 use super::fields::Node;
@@ -38,4 +40,54 @@ pub(crate) fn parse_camera(node: Node<'_>) -> Result<Option<Camera>, DatasetErro
             mirrored,
         })
     })
+}
+
+/// The `outputCamera` record [`parse_camera`] reads back as `camera`: `{}` when none was
+/// recorded; `mirrored` written only when set (the release wrote it for rope only).
+pub(crate) fn camera_record(camera: Option<&Camera>) -> Value {
+    let Some(camera) = camera else {
+        return json!({});
+    };
+    let mut main = json!({
+        "position": camera.position,
+        "rotation": camera.rotation_deg,
+        "fov": [camera.vertical_fov_deg],
+    });
+    if camera.mirrored
+        && let Some(fields) = main.as_object_mut()
+    {
+        fields.insert("mirrored".into(), json!(1));
+    }
+    json!({ "Main Camera": main })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    #[test]
+    fn a_written_camera_reads_back_equal() {
+        let cameras = [
+            Some(Camera {
+                position: [0.1, 3.25, -11.0],
+                rotation_deg: [30.0, 0.0, 1.0e-7],
+                vertical_fov_deg: 34.5,
+                mirrored: false,
+            }),
+            Some(Camera {
+                position: [-7.455_870_63, -1.512_082_58, -43.051_834_1],
+                rotation_deg: [348.4731, 346.7676, 0.0],
+                vertical_fov_deg: 40.14217,
+                mirrored: true,
+            }),
+            None,
+        ];
+        for camera in cameras {
+            let record = camera_record(camera.as_ref());
+            let read = parse_camera(Node::root(Path::new("outputs.json"), &record)).unwrap();
+            assert_eq!(read, camera);
+        }
+    }
 }

@@ -113,7 +113,10 @@ static TABLE: [ScenarioParts; 4] = [
         inference_bench: Some(scene_api::fluid::infer::inference_report),
         physics_bench: Some(&scene_api::fluid::physics_bench::BENCH),
     },
-    ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY),
+    ScenarioParts {
+        engine: Some(&engine::cloth::ENGINE),
+        ..ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY)
+    },
     ScenarioParts {
         demo: Some("eval/demo/soft_body/0"),
         engine: Some(&engine::ball::ENGINE),

@@ -7,12 +7,13 @@
 //! (`engine/<scenario>/`); the scenario table (`scenarios`) names each scenario's engine.
 //!
 //! Only the rope engine is public (`rope`, a re-implementation of the release's
-//! `question_engine_pulley.py`); the others follow the paper's templates (`fluid`, `ball`).
-//! Randomness comes from seeded ChaCha8 streams derived from the seed, the scenario and the video
-//! id, so the same inputs give byte-identical files. This module depends only on `dataset` types
-//! and `util`.
+//! `question_engine_pulley.py`); the others follow the paper's templates (`fluid`, `cloth`,
+//! `ball`). Randomness comes from seeded ChaCha8 streams derived from the seed, the scenario and
+//! the video id, so the same inputs give byte-identical files. This module depends only on
+//! `dataset` types and `util`.
 
 pub mod ball;
+pub mod cloth;
 mod error;
 pub mod fluid;
 pub(crate) mod record;
