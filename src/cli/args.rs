@@ -409,7 +409,7 @@ pub struct QuestionsArgs {
 /// `generate` arguments.
 #[derive(Debug, Args)]
 pub struct GenerateArgs {
-    /// The scenario to generate: rope, fluid or ball.
+    /// The scenario to generate: rope, fluid, cloth or ball.
     #[arg(long, value_name = "SCENARIO")]
     scenario: Option<Scenario>,
     /// Number of videos (folders 0 … N−1).

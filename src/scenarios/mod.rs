@@ -115,6 +115,7 @@ static TABLE: [ScenarioParts; 4] = [
     },
     ScenarioParts {
         engine: Some(&engine::cloth::ENGINE),
+        synth: Some(&synth::cloth::CLOTH_SYNTH),
         ..ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY)
     },
     ScenarioParts {

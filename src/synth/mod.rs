@@ -17,12 +17,14 @@
 //! * [`rope`]: rope–pulley scenes (`docs/data/rope.md`).
 //! * [`fluid`]: fluids on sticks into containers (`docs/data/fluid.md`).
 //! * [`ball`]: soft balls dropping past floating walls into pits (`docs/data/ball.md`).
+//! * [`cloth`]: cloths dragged over pillars and plates (`docs/data/cloth.md`).
 
 pub mod annotate;
 pub mod appearance;
 pub mod background;
 pub mod ball;
 pub mod camera;
+pub mod cloth;
 mod error;
 pub mod fluid;
 pub mod mesh;

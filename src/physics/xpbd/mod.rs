@@ -29,7 +29,7 @@ use std::collections::BTreeSet;
 pub use rigid::BoxBody;
 pub use sheet::{Sheet, SheetProperties, SheetSpec};
 
-use crate::physics::vector3::Vector;
+use crate::physics::vector3::{self as v3, Vector};
 
 /// One update of the release, seconds.
 pub const UPDATE_SECONDS: f64 = 1.0 / 60.0;
@@ -87,6 +87,11 @@ pub struct XpbdSettings {
     pub table_height: f64,
     /// Whether cloth particles collide with the same cloth's other particles.
     pub self_collision: bool,
+    /// Cloth particle speeds are capped here, m/s: above anything the scene moves at (the
+    /// handle: 3 m/s; a 3-metre fall: 7.7 m/s). A cloth snagged on a box while the handle pulls
+    /// stores stretch its few iterations cannot remove, and when it comes free the constraint
+    /// would fling particles at up to 80 m/s (measured); the cap keeps that from happening.
+    pub max_speed: f64,
 }
 
 impl Default for XpbdSettings {
@@ -100,6 +105,7 @@ impl Default for XpbdSettings {
             rigid_friction: 0.6,
             table_height: 0.0,
             self_collision: true,
+            max_speed: 15.0,
         }
     }
 }
@@ -107,7 +113,7 @@ impl Default for XpbdSettings {
 impl XpbdSettings {
     /// Checks every setting's range.
     pub fn validate(&self) -> Result<(), XpbdError> {
-        let checks: [(&'static str, f64, bool, &'static str); 6] = [
+        let checks: [(&'static str, f64, bool, &'static str); 7] = [
             (
                 "update_seconds",
                 self.update_seconds,
@@ -137,6 +143,12 @@ impl XpbdSettings {
                 self.damping,
                 self.damping >= 0.0 && self.damping.is_finite(),
                 "expected a finite value of at least 0",
+            ),
+            (
+                "max_speed",
+                self.max_speed,
+                self.max_speed > 0.0,
+                "expected a positive speed",
             ),
             (
                 "rigid_friction",
@@ -169,6 +181,17 @@ pub struct UpdateContacts {
     pub table_boxes: BTreeSet<usize>,
 }
 
+/// A sheet's self-contact candidates, kept while no two particles can have closed the margin
+/// they were found with.
+#[derive(Debug, Clone, Default)]
+struct SelfContacts {
+    /// Candidate pairs (closer than two radii plus the margin when found).
+    pairs: Vec<(usize, usize)>,
+    /// How much closer any two particles may still have come, metres; below 0 the pairs are
+    /// found again.
+    budget: f64,
+}
+
 /// The simulated world: cloths and boxes on a table.
 #[derive(Debug, Clone)]
 pub struct World {
@@ -176,6 +199,7 @@ pub struct World {
     sheets: Vec<Sheet>,
     boxes: Vec<BoxBody>,
     samples: Vec<Vec<Vector>>,
+    self_contacts: Vec<SelfContacts>,
     updates: usize,
 }
 
@@ -188,6 +212,7 @@ impl World {
             sheets: Vec::new(),
             boxes: Vec::new(),
             samples: Vec::new(),
+            self_contacts: Vec::new(),
             updates: 0,
         })
     }
@@ -195,6 +220,7 @@ impl World {
     /// Adds a cloth; returns its index.
     pub fn add_sheet(&mut self, sheet: Sheet) -> usize {
         self.sheets.push(sheet);
+        self.self_contacts.push(SelfContacts::default());
         self.sheets.len() - 1
     }
 
@@ -274,14 +300,32 @@ impl World {
         }
         let mut rigid =
             contact::find_rigid_contacts(&self.boxes, &self.samples, settings.table_height);
-        let self_pairs: Vec<Vec<(usize, usize)>> = self
-            .sheets
+        if settings.self_collision {
+            for (sheet, cache) in self.sheets.iter().zip(&mut self.self_contacts) {
+                // Two particles close at most twice the fastest one's speed; the candidates
+                // stay complete until that has used up the margin they were found with.
+                let fastest = sheet
+                    .velocities
+                    .iter()
+                    .map(|v| v3::norm(*v))
+                    .fold(0.0, f64::max);
+                cache.budget -= 2.0 * fastest * h;
+                if cache.budget <= 0.0 {
+                    let margin = 4.0 * sheet.particle_radius();
+                    let reach = 2.0 * sheet.particle_radius() + margin;
+                    cache.pairs = contact::find_self_contacts(sheet, reach);
+                    cache.budget = margin - 2.0 * fastest * h;
+                }
+            }
+        }
+        let self_pairs: Vec<&[(usize, usize)]> = self
+            .self_contacts
             .iter()
-            .map(|sheet| {
+            .map(|cache| {
                 if settings.self_collision {
-                    contact::find_self_contacts(sheet)
+                    cache.pairs.as_slice()
                 } else {
-                    Vec::new()
+                    &[]
                 }
             })
             .collect();
@@ -303,7 +347,7 @@ impl World {
             body.derive_velocities(h);
         }
         for sheet in &mut self.sheets {
-            sheet.derive_velocities(h);
+            sheet.derive_velocities(h, settings.max_speed);
         }
         contact::rigid_velocities(&mut self.boxes, &rigid);
         for contact in rigid.contacts.iter().filter(|c| c.normal_multiplier > 0.0) {

@@ -320,10 +320,16 @@ impl Sheet {
         self.stretch_multipliers.fill(0.0);
     }
 
-    /// Ends a substep: velocities from the position change.
-    pub(super) fn derive_velocities(&mut self, h: f64) {
+    /// Ends a substep: velocities from the position change, capped at `max_speed` (m/s).
+    pub(super) fn derive_velocities(&mut self, h: f64, max_speed: f64) {
         for k in 0..self.positions.len() {
-            self.velocities[k] = v3::scale(v3::sub(self.positions[k], self.previous[k]), 1.0 / h);
+            let velocity = v3::scale(v3::sub(self.positions[k], self.previous[k]), 1.0 / h);
+            let speed = v3::norm(velocity);
+            self.velocities[k] = if speed > max_speed {
+                v3::scale(velocity, max_speed / speed)
+            } else {
+                velocity
+            };
         }
     }
 

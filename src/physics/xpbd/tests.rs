@@ -448,6 +448,6 @@ fn a_dragged_cloth_scene_has_a_golden_hash() {
     let hash = hasher.finalize().to_hex().to_string();
     assert_eq!(
         hash,
-        "30f010f76c35fdc13a2e98ddce9d0f63e8f9a8ad13e6444c91861ef34f859d1b"
+        "441565be8641fb87bd488f6288c59994e80ded25093fa418c11215c4078138b5"
     );
 }

@@ -22,9 +22,8 @@ use self::scene::BallView;
 use self::simulate::{BallRun, RunKind, run};
 use super::background::Wall;
 use super::camera::truncated_normal;
-use super::raster::Light;
 use super::shadow::RELEASE_SHADOW;
-use super::unity::{camera_json, round, vector3};
+use super::unity::{camera_json, light_from_euler, round, sample_light, vector3};
 use super::{ScenarioSynth, SynthError, SynthesizedVideo, first_valid_trial};
 use crate::dataset::Scenario;
 use crate::dataset::ball::outcome::PitRecord;
@@ -61,15 +60,6 @@ impl ScenarioSynth for BallSynth {
     }
 }
 
-/// The release's light: Euler x in U(20, 60)°, y in U(−20, 20)°.
-fn sample_light(rng: &mut ChaCha8Rng) -> [f64; 3] {
-    [
-        rng.random_range(20.0..60.0),
-        rng.random_range(-20.0..20.0),
-        0.0,
-    ]
-}
-
 /// The release's camera draw (`CameraRandomizer` with the ball settings): azimuth
 /// U(−π/2 ± 0.04) rad, elevation N(0, π/6) truncated to [π/10, π/6], distance 16, vertical field
 /// of view U(30°, 35°); not re-framed. The camera sits at −z looking at [`LOOK_AT`].
@@ -85,21 +75,6 @@ fn sample_camera(rng: &mut ChaCha8Rng, width: u32, height: u32) -> CameraModel {
         LOOK_AT[2] + CAMERA_DISTANCE * elevation.cos() * azimuth.sin(),
     ];
     CameraModel::looking_at(position, LOOK_AT, fov, width, height)
-}
-
-/// The renderer's light for the release's Euler angles: x tilts it down from the horizon, y
-/// turns it sideways; it comes from the camera's side (−z).
-fn light_from_euler(euler_deg: [f64; 3]) -> Light {
-    let (x, y) = (euler_deg[0].to_radians(), euler_deg[1].to_radians());
-    let direction = [-(y.sin() * x.cos()), x.sin(), -(y.cos() * x.cos())];
-    let length = direction.iter().map(|c| c * c).sum::<f64>().sqrt();
-    Light {
-        direction: direction.map(|c| c / length),
-        ambient: 0.5,
-        diffuse: 0.6,
-        specular: 0.25,
-        shininess: 32.0,
-    }
 }
 
 fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<SynthesizedVideo, String> {
