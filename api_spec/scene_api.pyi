@@ -12,8 +12,10 @@ Scenarios and their objects (the words `SoftScene.find` understands):
 - cloth: cloth, pillar, plate
 - ball:  ball, stick, pit, floating wall, ramp
 
-Rope, fluid and ball videos can be answered by this version: on a cloth video every query
-raises `SceneUnavailableError`. The signatures below are the paper's for all four scenarios.
+All four scenarios can be answered by this version. Cloth videos are answered from their
+annotations only: with perception from pixels or simulated dynamics every cloth call raises
+`SceneUnavailableError`. The signatures below are the paper's for all four scenarios, plus
+`SoftDynamicScene.final_pose` for the end pose of a cloth scene's pillars and plates.
 
 Errors: a wrong call (unknown word, unknown property or action, an empty list where one object
 is needed, a wrong argument type) raises `SceneApiError` with a message that says what is
@@ -69,8 +71,8 @@ class SceneObject:
 
     kind: str
     """The object class: rope scenes have 'cube', 'sphere', 'pulley', 'rope', 'fixed point';
-    fluid scenes 'fluid', 'container', 'stick', 'emitter'; ball scenes 'ball', 'floating wall',
-    'ramp', 'pit'."""
+    fluid scenes 'fluid', 'container', 'stick', 'emitter'; cloth scenes 'cloth', 'pillar',
+    'plate'; ball scenes 'ball', 'floating wall', 'ramp', 'pit'."""
 
     type: str
     """The same as `kind` (the paper's name for it)."""
@@ -90,7 +92,9 @@ class SceneObject:
 
     side: str | None
     """Ball scenes. Pits and ramps: 'left' or 'right' (pits have no colour: their names are
-    'left pit' and 'right pit'; a ramp's is e.g. 'yellow left ramp'); None for other objects."""
+    'left pit' and 'right pit'; a ramp's is e.g. 'yellow left ramp'); None for other objects.
+    Cloth scenes. The cloths: 'left' or 'right' (they have no colour: their names are 'left
+    cloth' and 'right cloth'); None for pillars and plates."""
 
 class SceneEvent:
     """An event registered with `SoftScene.register_event`; pass it to
@@ -162,9 +166,10 @@ class SoftScene:
           black, white, light blue, light green, light yellow, light coral, light purple.
           Colours match exactly: 'blue' does not find a 'light blue' object.
         - kinds: the scenario's objects (rope: cube, sphere, pulley, rope, fixed point, and
-          'load' means a cube or a sphere; fluid: fluid, container, stick, emitter; ball: ball,
-          floating wall, ramp, pit, and stick, which finds nothing in ball scenes). A kind of
-          another scenario ('container' in a rope scene) finds nothing.
+          'load' means a cube or a sphere; fluid: fluid, container, stick, emitter; cloth:
+          cloth, pillar, plate; ball: ball, floating wall, ramp, pit, and stick, which finds
+          nothing in ball scenes). A kind of another scenario ('container' in a rope scene)
+          finds nothing.
         - rope pulley shapes: solid (also small, little), hollow (also big, large); a shape
           alone means a pulley.
         - rope dynamics: static, dynamic (also movable).
@@ -174,6 +179,8 @@ class SoftScene:
           yellow fluid's later emitter; 'yellow emitter' finds both of its emitters.
         - ball pit and ramp sides: left, right; a side alone means a pit ('left pit',
           'yellow left ramp').
+        - cloth sides: left, right; a side alone means a cloth ('left cloth'). Pillars and
+          plates are found by colour and kind ('green plate', 'light blue pillar').
         Any other word raises `SceneApiError` listing the vocabulary; so does naming two
         different colours or kinds in one call (find one description at a time).
 
@@ -222,8 +229,13 @@ class SoftScene:
             1 for the plastic ball, 0 for the others. `query_pair` gives (None, None) for two
             balls whose materials do not order them (rigid and plastic on elasticity, elastic
             and rigid on plasticity).
+            Cloth scenes have 'elasticity' and 'bending' of a cloth, the values the video was
+            made with: elasticity is how much the cloth stretches (0.011 for the stretchy
+            cloth, 0 for the one that does not stretch); bending is how easily it bends and
+            wrinkles (0.035 bends easily, 0.013 is stiffer), so a cloth "harder to bend" has
+            the smaller bending. The two cloths always differ in both and always compare.
             Other properties, or mass of a pulley or rope, tension of a non-rope, density of a
-            non-fluid, raise `SceneApiError`.
+            non-fluid, elasticity or bending of a pillar or plate, raise `SceneApiError`.
         object : SceneObject | list[SceneObject]
             One object, or the list `find` returned holding exactly one object (an empty list
             or a list of two raises `SceneApiError`).
@@ -312,6 +324,8 @@ class SoftScene:
               counterfactual "if we removed the red floating wall and other balls", in which
               the ball `happen` asks about falls alone;
             - 'simulate' with [] and attribute '': the factual future of the video.
+            Cloth scenes support 'simulate' with [] and attribute '' only: the future of the
+            video, in which the cloth is pulled over the pillars and plates and released.
             A removal the video has no record of raises `SceneUnavailableError`.
         attribute : str | SceneObject | list[SceneObject]
             What changes: 'mass' for increase/decrease, '' for simulate, 'fluid' for emit; for
@@ -404,10 +418,22 @@ class SoftDynamicScene:
             counterfactual runs pour the first emitters only).
             Ball scenes answer 'droping' for a ball and a pit: the ball finally drops into that
             pit (during the video or after it).
+            Cloth scenes answer, for a pillar or plate (the cloths themselves are not asked
+            about):
+            - 'falling' with target '': the box falls over (it ends lying on a side or upside
+              down, not standing upright). A box that ends leaning, its top still pointing up,
+              has neither clearly fallen nor stayed up: 'falling' raises
+              `SceneUnavailableError` for it (its `final_pose` still answers);
+            - 'collision' with another pillar or plate as the target: the two boxes collide at
+              some point in the video;
+            - 'touching' with another pillar or plate as the target: the two boxes are in
+              touch at the end.
+            To relate two boxes, pass the first as the object and the second as the target,
+            `happen([green_plate], 'touching', [gray_pillar])`, not both as the objects.
         target : str | SceneObject | list[SceneObject]
             A direction word (rope), a description ('red container') or objects (fluid, ball
             and cloth targets such as `[black_container]`: one stick or container in fluid
-            scenes); may be ''.
+            scenes, one pillar or plate in cloth scenes); may be ''.
 
         Returns
         -------
@@ -425,6 +451,43 @@ class SoftDynamicScene:
         >>> cf_init_event = fluid_scene.register_event([], "remove", "brown stick")
         >>> fluid_cf_scene = fluid_scene.init_dyn_simulation(cf_init_event)
         >>> return bool_to_yesno(fluid_cf_scene.happen(fluid_scene.find("pink fluid"), "entering", fluid_scene.find("green container")))
+
+        >>> # Is the green plate finally in touch with the gray pillar? | Yes
+        >>> pred_init_event = cloth_scene.register_event([], "simulate", "")
+        >>> cloth_pred_scene = cloth_scene.init_dyn_simulation(pred_init_event)
+        >>> return bool_to_yesno(cloth_pred_scene.happen(cloth_scene.find("green plate"), "touching", cloth_scene.find("gray pillar")))
+        """
+
+    def final_pose(self, scene_object: SceneObject | list[SceneObject]) -> str:
+        """How the object ends in this dynamic scene, in the words of the pose questions.
+
+        Cloth scenes only: the end pose of a pillar or plate, one of these five phrases,
+        spelled exactly so (the options of "Which phrase below can best describe the final
+        pose of ...?"):
+        - 'It stands upright': it stands as it was placed;
+        - 'It leans at an angle, its top still pointing up': tilted, for example resting on
+          a neighbour;
+        - 'It lies flat on its back, front or side';
+        - 'It is tilted upside down at an angle, its top pointing down';
+        - 'It stands upside down on its top'.
+        A cloth, or an object of another scenario, raises `SceneApiError`.
+
+        Parameters
+        ----------
+        scene_object : SceneObject | list[SceneObject]
+            One pillar or plate, or the one-object list `find` returned.
+
+        Returns
+        -------
+        str
+            One of the five phrases.
+
+        Examples
+        --------
+        >>> # Which phrase below can best describe the final pose of the green plate? | It stands upright
+        >>> pred_init_event = cloth_scene.register_event([], "simulate", "")
+        >>> cloth_pred_scene = cloth_scene.init_dyn_simulation(pred_init_event)
+        >>> return bool_to_yesno(cloth_pred_scene.final_pose(cloth_scene.find("green plate")) == "It stands upright")
         """
 
 def bool_to_yesno(bool_answer: object, /) -> str:

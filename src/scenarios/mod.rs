@@ -116,6 +116,8 @@ static TABLE: [ScenarioParts; 4] = [
     ScenarioParts {
         engine: Some(&engine::cloth::ENGINE),
         synth: Some(&synth::cloth::CLOTH_SYNTH),
+        writer: Some(&builtin::cloth::WRITER),
+        scene: Some(scene_api::cloth::load),
         ..ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY)
     },
     ScenarioParts {

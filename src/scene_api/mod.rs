@@ -14,6 +14,7 @@
 //! scenario's backend lives in `scene_api/<scenario>/`.
 
 pub mod ball;
+pub mod cloth;
 mod error;
 mod find;
 pub mod fluid;

@@ -279,6 +279,13 @@ pub trait ScenarioBackend: Send + Sync {
         action: &str,
         target: &Target,
     ) -> Result<bool, ApiError>;
+    /// The final pose of `object` in the dynamic scene started by `event`, in the words the
+    /// scenario's pose questions offer (`SoftDynamicScene.final_pose`); `Ok(None)` when the
+    /// scenario's objects have no pose to ask about.
+    fn final_pose(&self, event: &SceneEvent, object: ObjectId) -> Result<Option<String>, ApiError> {
+        let _ = (event, object);
+        Ok(None)
+    }
     /// Simulator runs and steps this backend has done (0 for oracle backends).
     fn simulation_work(&self) -> (u64, u64) {
         (0, 0)
@@ -465,10 +472,16 @@ impl Scene {
     ) -> Result<bool, ApiError> {
         self.count(|w| w.api_calls += 1);
         let [object] = objects else {
-            let message = format!(
+            let mut message = format!(
                 "happen: ask about one object at a time, got {}; e.g. happen([cube], 'motion', 'up')",
                 objects.len()
             );
+            if objects.len() > 1 {
+                // The paper's listings once pass both objects of a relation (`touching`).
+                message.push_str(
+                    "; a relation between two objects names the second as the target: happen([a], 'touching', [b])",
+                );
+            }
             // An empty list is what `find` gives for a name no object carries.
             return Err(if objects.is_empty() {
                 super::error::named_nothing(
@@ -481,5 +494,17 @@ impl Scene {
         };
         self.backend()?
             .happen(event, *object, &action.trim().to_lowercase(), target)
+    }
+
+    /// `SoftDynamicScene.final_pose(object)`: how `object` ends in the dynamic scene `event`
+    /// starts, in the words of the scenario's pose questions.
+    pub fn final_pose(&self, event: &SceneEvent, object: ObjectId) -> Result<String, ApiError> {
+        self.count(|w| w.api_calls += 1);
+        self.backend()?.final_pose(event, object)?.ok_or_else(|| {
+            misuse(format!(
+                "final_pose: the objects of {} scenes have no final pose to ask about; use happen",
+                self.spec.scenario
+            ))
+        })
     }
 }

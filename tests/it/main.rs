@@ -11,6 +11,7 @@
 mod api_spec;
 mod architecture;
 mod cli;
+mod cloth;
 mod exec;
 mod fluid;
 mod frames;

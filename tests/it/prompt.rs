@@ -308,7 +308,7 @@ fn other_scenarios_render_with_their_own_examples() {
         ),
         (
             Scenario::Cloth,
-            "cloth/cloth_predictive",
+            "cloth/cloth_predictive_touch",
             "use `SoftScene(video, 'cloth')`",
         ),
         (

@@ -9,6 +9,7 @@
 //! option. The programs are real Python that goes through the sandbox; nothing is answered here.
 
 pub mod ball;
+pub mod cloth;
 pub mod fluid;
 pub mod rope;
 

@@ -569,6 +569,22 @@ impl SoftDynamicScene {
             scene.happen(&event, &objects, &action, &target)
         })
     }
+
+    /// `final_pose(scene_object) -> str`: how the object ends, in the words of its scenario's
+    /// pose questions.
+    #[pymethod]
+    fn final_pose(&self, args: FuncArgs, vm: &VirtualMachine) -> PyResult<String> {
+        let bound = bind_arguments(vm, args, "final_pose", &["scene_object"], 1)?;
+        let none = vm.ctx.none();
+        let object = one_object(
+            vm,
+            bound[0].as_deref().unwrap_or(&none),
+            "final_pose",
+            "scene_object",
+        )?;
+        let event = self.event.clone();
+        api_call(vm, &self.scene, |scene| scene.final_pose(&event, object))
+    }
 }
 
 /// `bool_to_yesno(bool_answer) -> "yes" | "no"` (Python truthiness).

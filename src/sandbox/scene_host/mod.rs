@@ -389,6 +389,22 @@ answer = execute_command(video)
                 "misuse",
                 "unknown action `flying`",
             ),
+            (
+                "s = SoftScene(video, 'rope')\nd = s.init_dyn_simulation(s.register_event([], 'simulate', ''))\nd.final_pose(s.find('purple cube'))",
+                "misuse",
+                "final_pose: the objects of rope scenes have no final pose to ask about; use happen",
+            ),
+            (
+                "s = SoftScene(video, 'rope')\nd = s.init_dyn_simulation(s.register_event([], 'simulate', ''))\nd.final_pose(s.find('cube'))",
+                "misuse",
+                "final_pose: `scene_object` holds 2 objects",
+            ),
+            (
+                // The paper's listing eg3 passes both objects of a relation.
+                "s = SoftScene(video, 'rope')\nd = s.init_dyn_simulation(s.register_event([], 'simulate', ''))\nd.happen([s.find('purple cube'), s.find('green cube')], 'touching', '')",
+                "misuse",
+                "got 2; e.g. happen([cube], 'motion', 'up'); a relation between two objects names the second as the target: happen([a], 'touching', [b])",
+            ),
             ("SceneObject()", "misuse", "use scene.find(name)"),
         ];
         for (program, kind, expected) in cases {

@@ -1,0 +1,317 @@
+//! The cloth scene on the hand-written video `tests/data/cloth_collision/0`, whose answers the
+//! engine's tests work out by hand (`dataset/engine/cloth/tests.rs`). Left cloth: stretching
+//! compliance 0.011, maximum bending 0.013; right cloth: 0 and 0.035. Left half: the green plate
+//! ends `Supine` (collided with the gray pillar, recorded on the plate only), the gray pillar
+//! `Reclining` (touching the green plate, recorded on the pillar only), the blue plate `Upright`.
+//! Right half: the yellow pillar `Upright` and the orange plate `Swooping` collide and touch; the
+//! orange plate collides with the green pillar (`Upright`) but does not touch it at the end.
+
+use std::path::{Path, PathBuf};
+
+use super::*;
+use crate::dataset::{VideoFolder, VideoId};
+use crate::scene_api::{Scene, SceneParts};
+
+fn fixture_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cloth_collision/0")
+}
+
+fn open(perception: PerceptionBackend, dynamics: DynamicsBackend) -> Scene {
+    let video = VideoFolder {
+        scenario: Scenario::Cloth,
+        id: VideoId("0".into()),
+        dir: fixture_dir(),
+    };
+    Scene::open(
+        VideoSpec::new(&video, perception, dynamics),
+        SceneParts {
+            vocabulary: &VOCABULARY,
+            all_vocabularies: &[
+                &crate::dataset::rope::VOCABULARY,
+                &crate::dataset::fluid::VOCABULARY,
+                &VOCABULARY,
+                &crate::dataset::ball::VOCABULARY,
+            ],
+            backend: Some(load),
+        },
+    )
+}
+
+fn scene() -> Scene {
+    open(PerceptionBackend::Annotation, DynamicsBackend::Annotation)
+}
+
+fn one(scene: &Scene, query: &str) -> ObjectId {
+    let found = scene.find(query).unwrap();
+    assert_eq!(found.len(), 1, "{query}");
+    found[0]
+}
+
+fn simulate(scene: &Scene) -> SceneEvent {
+    scene
+        .register_event(&[], "simulate", "", Vec::new())
+        .unwrap()
+}
+
+/// `happen(subject, action, [target])` in the video's future.
+fn happen(scene: &Scene, subject: &str, action: &str, target: &str) -> Result<bool, ApiError> {
+    let event = simulate(scene);
+    let target = if target.is_empty() {
+        Target::Text(String::new())
+    } else {
+        Target::Objects(vec![one(scene, target)])
+    };
+    scene.happen(&event, &[one(scene, subject)], action, &target)
+}
+
+fn message(result: Result<impl std::fmt::Debug, ApiError>) -> String {
+    result.unwrap_err().to_string()
+}
+
+#[test]
+fn objects_are_the_cloths_then_each_half_s_pillars_and_plates() {
+    let scene = scene();
+    let all: Vec<String> = scene
+        .objects()
+        .unwrap()
+        .iter()
+        .map(SceneObjectInfo::describe)
+        .collect();
+    assert_eq!(
+        all,
+        [
+            "left cloth",
+            "right cloth",
+            "green plate",
+            "gray pillar",
+            "blue plate",
+            "yellow pillar",
+            "orange plate",
+            "green pillar"
+        ]
+    );
+    let cases: [(&str, usize); 10] = [
+        ("cloths", 2),
+        ("the left cloth", 1),
+        ("right", 1),
+        ("plates", 3),
+        ("pillar", 3),
+        ("green", 2),
+        ("green plate", 1),
+        ("left plate", 0),
+        ("red plate", 0),
+        ("pit", 0),
+    ];
+    for (query, count) in cases {
+        assert_eq!(scene.find(query).unwrap().len(), count, "{query}");
+    }
+    let cloth = scene.object(one(&scene, "right cloth")).unwrap();
+    assert_eq!(
+        (cloth.name.as_str(), cloth.attribute("side")),
+        ("Cloth (Right)", Some("right"))
+    );
+    let plate = scene.object(one(&scene, "green plate")).unwrap();
+    assert_eq!(
+        (plate.name.as_str(), plate.color.as_str(), plate.kind),
+        ("Green Plate", "green", "plate")
+    );
+    assert_eq!(plate.attribute("side"), None);
+}
+
+#[test]
+fn cloth_properties_are_the_release_values() {
+    let scene = scene();
+    let (left, right) = (one(&scene, "left cloth"), one(&scene, "right cloth"));
+    assert_eq!(
+        scene.query_pair("elasticity", left, right).unwrap(),
+        (Some(0.011), Some(0.0))
+    );
+    assert_eq!(
+        scene.query_pair("bending", right, left).unwrap(),
+        (Some(0.035), Some(0.013))
+    );
+    assert_eq!(scene.query_single("Bending", left).unwrap(), Some(0.013));
+    let plate = one(&scene, "green plate");
+    assert_eq!(
+        message(scene.query_pair("elasticity", left, plate)),
+        "query_pair: elasticity is a property of cloths, not of the green plate; the cloths are the left cloth and the right cloth"
+    );
+    assert_eq!(
+        message(scene.query_single("mass", plate)),
+        "query_single: property `mass` does not apply to cloth scenes; cloth scenes have elasticity and bending (cloths)"
+    );
+}
+
+#[test]
+fn falling_is_the_end_pose_and_a_leaning_box_has_no_answer() {
+    let scene = scene();
+    let cases = [
+        ("green plate", true),
+        ("blue plate", false),
+        ("yellow pillar", false),
+        ("orange plate", true),
+        ("green pillar", false),
+    ];
+    for (subject, fell) in cases {
+        assert_eq!(
+            happen(&scene, subject, "falling", "").unwrap(),
+            fell,
+            "{subject}"
+        );
+    }
+    assert!(happen(&scene, "green plate", "fall over", "").unwrap());
+    let leaning = happen(&scene, "gray pillar", "falling", "").unwrap_err();
+    assert_eq!(leaning.kind(), "unavailable");
+    assert!(
+        leaning
+            .to_string()
+            .starts_with("happen: the gray pillar ends leaning, its top still pointing up"),
+        "{leaning}"
+    );
+}
+
+#[test]
+fn collision_and_touch_read_either_box_s_records() {
+    let scene = scene();
+    let cases = [
+        // Recorded on the green plate only.
+        ("gray pillar", "collision", "green plate", true),
+        ("green plate", "collision", "gray pillar", true),
+        ("green plate", "collision", "blue plate", false),
+        ("yellow pillar", "collide", "orange plate", true),
+        ("green pillar", "collision", "orange plate", true),
+        ("yellow pillar", "collision", "green pillar", false),
+        // Across the halves.
+        ("green plate", "collision", "orange plate", false),
+        // Recorded on the gray pillar only.
+        ("green plate", "touching", "gray pillar", true),
+        ("orange plate", "touching", "yellow pillar", true),
+        // Collided, but apart at the end.
+        ("orange plate", "touching", "green pillar", false),
+        ("blue plate", "in touch", "green plate", false),
+    ];
+    for (subject, action, target, expected) in cases {
+        assert_eq!(
+            happen(&scene, subject, action, target).unwrap(),
+            expected,
+            "{subject} {action} {target}"
+        );
+    }
+    // A target given as a description reads as `find` does.
+    let event = simulate(&scene);
+    let plate = one(&scene, "green plate");
+    let by_text = scene.happen(
+        &event,
+        &[plate],
+        "touching",
+        &Target::Text("the gray pillar".into()),
+    );
+    assert!(by_text.unwrap());
+}
+
+#[test]
+fn the_final_pose_is_the_pose_question_s_phrase() {
+    let scene = scene();
+    let event = simulate(&scene);
+    let cases = [
+        ("green plate", Pose::Supine),
+        ("gray pillar", Pose::Reclining),
+        ("blue plate", Pose::Upright),
+        ("orange plate", Pose::Swooping),
+    ];
+    for (subject, pose) in cases {
+        assert_eq!(
+            scene.final_pose(&event, one(&scene, subject)).unwrap(),
+            pose.phrase(),
+            "{subject}"
+        );
+    }
+    assert_eq!(
+        message(scene.final_pose(&event, one(&scene, "left cloth"))),
+        "final_pose: it asks about a pillar or plate, not the left cloth"
+    );
+}
+
+#[test]
+fn misuse_names_the_object_and_what_is_allowed() {
+    let scene = scene();
+    let cases = [
+        (
+            happen(&scene, "left cloth", "falling", ""),
+            "happen: 'falling' asks about a pillar or plate, not the left cloth",
+        ),
+        (
+            happen(&scene, "green plate", "touching", "right cloth"),
+            "happen: the target of 'touching' must be a pillar or plate, not the right cloth",
+        ),
+        (
+            happen(&scene, "green plate", "collision", "green plate"),
+            "happen: 'collision' relates two different objects; the target is the green plate itself",
+        ),
+        (
+            happen(&scene, "green plate", "falling", "gray pillar"),
+            "happen: 'falling' takes no target (''): it asks whether the green plate itself falls over",
+        ),
+        (
+            happen(&scene, "green plate", "droping", "gray pillar"),
+            "happen: `droping` belongs to other scenarios; cloth scenes answer 'falling', 'collision' and 'touching' (and final_pose for the end pose)",
+        ),
+    ];
+    for (result, expected) in cases {
+        assert_eq!(message(result), expected);
+    }
+    assert!(
+        message(happen(&scene, "green plate", "flying", ""))
+            .starts_with("happen: unknown action `flying`")
+    );
+    let event = simulate(&scene);
+    let plate = one(&scene, "green plate");
+    let no_target = scene.happen(&event, &[plate], "touching", &Target::Text(String::new()));
+    assert_eq!(
+        message(no_target),
+        "happen: 'touching' needs the other pillar or plate as the target, e.g. happen([green_plate], 'touching', [gray_pillar]); the pillars and plates are: green plate, gray pillar, blue plate, yellow pillar, orange plate, green pillar"
+    );
+    let described = scene.happen(
+        &event,
+        &[plate],
+        "collision",
+        &Target::Text("purple plate".into()),
+    );
+    assert_eq!(
+        message(described),
+        "happen: the target `purple plate` of 'collision' names no object of this scene; the pillars and plates are: green plate, gray pillar, blue plate, yellow pillar, orange plate, green pillar"
+    );
+    let unknown = scene.happen(&event, &[plate], "collision", &Target::Objects(Vec::new()));
+    assert!(
+        message(unknown).starts_with(
+            "happen: the target of 'collision' names no pillar or plate (an empty list"
+        ),
+    );
+    let removal = scene.register_event(&[], "remove", "green plate", Vec::new());
+    assert_eq!(
+        message(removal),
+        "register_event: cloth scenes support register_event([], 'simulate', '') only: their questions predict the video's own future"
+    );
+}
+
+#[test]
+fn backends_cloth_does_not_have_yet_say_so() {
+    let simulate = open(PerceptionBackend::Annotation, DynamicsBackend::Simulate);
+    let error = simulate.find("green plate").unwrap_err();
+    assert_eq!(error.kind(), "unavailable");
+    assert!(
+        error
+            .to_string()
+            .starts_with("--dynamics simulate: there is no cloth simulation backend yet"),
+        "{error}"
+    );
+    let pixels = open(PerceptionBackend::MaskRcnn, DynamicsBackend::Annotation);
+    let error = pixels.find("green plate").unwrap_err();
+    assert_eq!(error.kind(), "unavailable");
+    assert!(
+        error
+            .to_string()
+            .starts_with("--perception maskrcnn: there is no perception for cloth scenes yet"),
+        "{error}"
+    );
+}
