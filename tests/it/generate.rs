@@ -217,17 +217,12 @@ fn bad_generate_requests_fail_with_one_line() {
     let out = tempfile::tempdir().unwrap();
     let target = out.path().join("data");
     let target = target.to_str().unwrap();
-    let cases: [(&str, Vec<&str>, i32); 7] = [
+    let cases: [(&str, Vec<&str>, i32); 6] = [
         ("no_videos", vec!["--videos", "0"], 1),
         ("no_scenario", vec!["--videos", "1"], 1),
         (
             "into_a_data_root_it_did_not_make",
             vec!["--videos", "1", "--scenario", "fluid", "--frames", "none"],
-            1,
-        ),
-        (
-            "scenario_without_generator",
-            vec!["--videos", "1", "--scenario", "cloth"],
             1,
         ),
         (
