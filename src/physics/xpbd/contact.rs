@@ -399,8 +399,7 @@ fn apply_pair_velocity(
     }
 }
 
-/// Cloth particles against the table at `table_height`: one pass. Returns nothing; the table
-/// is not a body.
+/// Cloth particles against the table at `table_height`: one pass (the table does not move).
 pub(super) fn project_particles_on_table(sheet: &mut Sheet, table_height: f64, friction: f64) {
     let radius = sheet.particle_radius();
     for k in 0..sheet.positions.len() {

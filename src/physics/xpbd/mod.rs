@@ -318,28 +318,21 @@ impl World {
                 }
             }
         }
-        let self_pairs: Vec<&[(usize, usize)]> = self
-            .self_contacts
-            .iter()
-            .map(|cache| {
-                if settings.self_collision {
-                    cache.pairs.as_slice()
-                } else {
-                    &[]
-                }
-            })
-            .collect();
         let mut touched = vec![vec![false; self.boxes.len()]; self.sheets.len()];
         for _ in 0..settings.iterations {
-            for ((sheet, pairs), touched) in
-                self.sheets.iter_mut().zip(&self_pairs).zip(&mut touched)
+            // Without self-collision the candidate lists stay empty.
+            for ((sheet, candidates), touched) in self
+                .sheets
+                .iter_mut()
+                .zip(&self.self_contacts)
+                .zip(&mut touched)
             {
                 sheet.project_stretch(h);
                 sheet.project_bend();
                 let friction = sheet.properties().friction;
                 contact::project_particles_on_table(sheet, settings.table_height, friction);
                 contact::project_particles_on_boxes(sheet, &mut self.boxes, friction, touched);
-                contact::project_self_contacts(sheet, pairs);
+                contact::project_self_contacts(sheet, &candidates.pairs);
             }
             contact::project_rigid(&mut self.boxes, &mut rigid, settings.rigid_friction);
         }

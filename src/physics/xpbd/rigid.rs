@@ -29,7 +29,11 @@ pub struct BoxBody {
     /// Pose at the start of the current substep (for the velocity update and static friction).
     pub(super) previous_position: Vector,
     pub(super) previous_orientation: Quaternion,
-    /// Inverse principal moments of inertia in the box's frame, 1/(kg m²).
+    /// The rotation matrix of `previous_orientation` (read for every contact's friction).
+    previous_rotation: Matrix,
+    /// Principal moments of inertia in the box's frame, kg m² (the gyroscopic term).
+    inertia: Vector,
+    /// Their inverses, 1/(kg m²).
     inverse_inertia: Vector,
     /// The rotation matrix of `orientation`, refreshed whenever it changes.
     rotation: Matrix,
@@ -51,6 +55,7 @@ impl BoxBody {
             mass * (a + b) / 3.0,
         ];
         let orientation = normalised(orientation);
+        let inverse_inertia = inertia.map(|moment| 1.0 / moment);
         BoxBody {
             half_extents,
             mass,
@@ -60,7 +65,10 @@ impl BoxBody {
             angular_velocity: [0.0; 3],
             previous_position: position,
             previous_orientation: orientation,
-            inverse_inertia: inertia.map(|moment| 1.0 / moment),
+            previous_rotation: rotation_matrix(orientation),
+            // As the inverse's inverse, the value the gyroscopic term has always used.
+            inertia: inverse_inertia.map(|inverse| 1.0 / inverse),
+            inverse_inertia,
             rotation: rotation_matrix(orientation),
         }
     }
@@ -92,7 +100,7 @@ impl BoxBody {
     pub fn previous_world(&self, local: Vector) -> Vector {
         v3::add(
             self.previous_position,
-            v3::apply(&rotation_matrix(self.previous_orientation), local),
+            v3::apply(&self.previous_rotation, local),
         )
     }
 
@@ -149,10 +157,11 @@ impl BoxBody {
     pub(super) fn predict(&mut self, h: f64, gravity: Vector) {
         self.previous_position = self.position;
         self.previous_orientation = self.orientation;
+        self.previous_rotation = self.rotation;
         self.velocity = v3::add(self.velocity, v3::scale(gravity, h));
         self.position = v3::add(self.position, v3::scale(self.velocity, h));
         let body = v3::apply(&v3::transpose(&self.rotation), self.angular_velocity);
-        let inertia = self.inverse_inertia.map(|inverse| 1.0 / inverse);
+        let inertia = self.inertia;
         let momentum = [
             body[0] * inertia[0],
             body[1] * inertia[1],

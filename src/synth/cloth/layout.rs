@@ -150,22 +150,23 @@ pub fn sample_layout(rng: &mut ChaCha8Rng) -> Option<Layout> {
     pillar_colors.shuffle(rng);
     let mut plate_colors = plate_colors.into_iter();
     let mut pillar_colors = pillar_colors.into_iter();
-    let mut halves = Vec::with_capacity(2);
-    for (side, cloth, centre_x) in [
-        (Side::Left, left, HALF_CENTRES[0]),
-        (Side::Right, right, HALF_CENTRES[1]),
-    ] {
-        let boxes = sample_boxes(rng, cloth.friction, &mut pillar_colors, &mut plate_colors)?;
-        halves.push(HalfLayout {
-            side,
-            centre_x,
-            cloth,
-            boxes,
-        });
-    }
-    let [left, right]: [HalfLayout; 2] = halves.try_into().ok()?;
+    let left_boxes = sample_boxes(rng, left.friction, &mut pillar_colors, &mut plate_colors)?;
+    let right_boxes = sample_boxes(rng, right.friction, &mut pillar_colors, &mut plate_colors)?;
     Some(Layout {
-        halves: [left, right],
+        halves: [
+            HalfLayout {
+                side: Side::Left,
+                centre_x: HALF_CENTRES[0],
+                cloth: left,
+                boxes: left_boxes,
+            },
+            HalfLayout {
+                side: Side::Right,
+                centre_x: HALF_CENTRES[1],
+                cloth: right,
+                boxes: right_boxes,
+            },
+        ],
     })
 }
 

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use serde_json::{Map, Value, json};
 
-use super::layout::{HalfLayout, Layout};
+use super::layout::Layout;
 use super::simulate::{CAPTURE_EVERY, HalfRun, SPAWN_UPDATE};
 use crate::perception::palette::PALETTE;
 use crate::physics::vector3::{self as v3, Quaternion, Vector, rotation_matrix};
@@ -187,8 +187,9 @@ impl ClothView {
                     name.clone(),
                     Value::Array(poses.iter().copied().map(pose_json).collect()),
                 );
+                let rotation = rotation_matrix(orientation);
                 let placed = mesh.transformed(&Pose {
-                    rotation: rotation_matrix(orientation),
+                    rotation,
                     translation: position,
                 });
                 let points: Vec<[f64; 3]> = placed.positions.iter().map(|p| p.map(round)).collect();
@@ -197,7 +198,7 @@ impl ClothView {
                 faces.insert(name.clone(), json!(flat));
                 let mut rows = vec![
                     json!(position.map(round)),
-                    json!(unity_euler_degrees(&rotation_matrix(orientation)).map(round)),
+                    json!(unity_euler_degrees(&rotation).map(round)),
                 ];
                 rows.extend(
                     box_voxels(entry.size, position, orientation)
@@ -220,7 +221,7 @@ impl ClothView {
                 .map(|particles| json!(particles.iter().map(|p| p.map(round)).collect::<Vec<_>>()))
                 .collect();
             let count = frames.len();
-            let name = half_cloth_name(half);
+            let name = half.side.cloth_name().to_string();
             tracked.insert(name.clone(), Value::Array(frames));
             empty.insert(name, json!(vec![json!([]); count]));
         }
@@ -239,11 +240,6 @@ impl ClothView {
             },
         })
     }
-}
-
-/// `Cloth (Left)` or `Cloth (Right)`.
-fn half_cloth_name(half: &HalfLayout) -> String {
-    half.side.cloth_name().to_string()
 }
 
 /// A cloth's mesh over its particles, with per-vertex normals averaged from its triangles.

@@ -12,9 +12,9 @@
 //! boxes' poses and the cloth's particles; the cloth's mean stretch force per quadrant at the
 //! last update.
 
-use crate::physics::vector3::{Quaternion, Vector};
+use crate::physics::vector3::{Quaternion, Vector, norm};
 use crate::physics::xpbd::{
-    BoxBody, Sheet, SheetProperties, SheetSpec, World, XpbdError, XpbdSettings,
+    BoxBody, Sheet, SheetProperties, SheetSpec, UpdateContacts, World, XpbdError, XpbdSettings,
 };
 
 use super::layout::{
@@ -145,7 +145,7 @@ pub fn run_half(half: &HalfLayout) -> Result<HalfRun, XpbdError> {
         reason = "a pull of about 5 units at 3 units/s is about 100 updates"
     )]
     let pull_updates = (half.cloth.pull_distance / PULL_SPEED * 60.0).round() as usize;
-    let mut previous = crate::physics::xpbd::UpdateContacts::default();
+    let mut previous = UpdateContacts::default();
     let mut cloth_touched_at = vec![None::<usize>; count];
     for update in 1..=LAST_UPDATE {
         if update == SPAWN_UPDATE {
@@ -177,8 +177,7 @@ pub fn run_half(half: &HalfLayout) -> Result<HalfRun, XpbdError> {
             cloth_touched_at[body] = Some(update);
         }
         for (outcome, body) in outcomes.iter_mut().zip(world.boxes()) {
-            let speed = crate::physics::vector3::norm(body.velocity);
-            let spin = crate::physics::vector3::norm(body.angular_velocity);
+            let (speed, spin) = (norm(body.velocity), norm(body.angular_velocity));
             if outcome.start_moving.is_none() && (speed > MOVING || spin > MOVING) {
                 outcome.start_moving = Some(stamp);
             }
