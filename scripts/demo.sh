@@ -3,7 +3,8 @@
 # through apt-get when it can; ONNX Runtime into the project, scripts/setup-onnxruntime.sh),
 # builds, and evaluates every question of the embedded real rope video with ContPRO's pipeline
 # (--perception maskrcnn --dynamics simulate), then every question of the two embedded generated
-# fluid videos and of the two generated ball videos with the oracle backends. Without a runtime (no pip, not Linux x86_64) it
+# fluid videos, of the two generated cloth videos and of the two generated ball videos with the
+# oracle backends. Without a runtime (no pip, not Linux x86_64) it
 # says so and runs the oracle perception instead. Extra arguments go to contphy-eval.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +41,8 @@ fi
 # A new run directory each time (runs/demo, runs/demo-2, ...): earlier runs are kept.
 out=runs/demo
 n=1
-while [ -e "${out}/manifest.json" ] || [ -e "${out}-fluid/manifest.json" ] || [ -e "${out}-ball/manifest.json" ]; do
+while [ -e "${out}/manifest.json" ] || [ -e "${out}-fluid/manifest.json" ] ||
+  [ -e "${out}-cloth/manifest.json" ] || [ -e "${out}-ball/manifest.json" ]; do
   n=$((n + 1))
   out="runs/demo-${n}"
 done
@@ -51,6 +53,11 @@ cargo run --release --locked -- --data eval/demo --questions eval/demo/pulley_gr
 # is measured in docs/data/fluid.md; these 320x180 videos are smaller than its detector's input).
 cargo run --release --locked -- --data eval/demo --questions eval/demo/fluid_slides/0.json \
   --questions eval/demo/fluid_slides/1.json --out "${out}-fluid" \
+  --perception annotation --dynamics annotation "$@"
+# Cloth: two generated videos (eval/demo/cloth_collision/), every question the engine made for
+# them, with the oracle backends (cloth videos are answered from their annotations in this version).
+cargo run --release --locked -- --data eval/demo --questions eval/demo/cloth_collision/0.json \
+  --questions eval/demo/cloth_collision/1.json --out "${out}-cloth" \
   --perception annotation --dynamics annotation "$@"
 # Ball: two generated videos (eval/demo/soft_body/), every question the engine made for them, with
 # the oracle backends (ball videos are answered from their annotations in this version).

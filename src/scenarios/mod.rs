@@ -114,6 +114,7 @@ static TABLE: [ScenarioParts; 4] = [
         physics_bench: Some(&scene_api::fluid::physics_bench::BENCH),
     },
     ScenarioParts {
+        demo: Some("eval/demo/cloth_collision/0"),
         engine: Some(&engine::cloth::ENGINE),
         synth: Some(&synth::cloth::CLOTH_SYNTH),
         writer: Some(&builtin::cloth::WRITER),

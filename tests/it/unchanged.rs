@@ -115,8 +115,8 @@ fn engine_questions_for_several_seeds_are_unchanged() {
             ],
         );
         assert!(output.status.success(), "{}", stderr(&output));
-        // The rope files only: the demo also holds generated fluid and ball videos, whose
-        // questions are their own engines' (with their own tests).
+        // The rope files only: the demo also holds generated fluid, cloth and ball videos,
+        // whose questions are their own engines' (with their own tests).
         check(
             &format!("questions --seed {seed}"),
             &tree_hash(
@@ -127,6 +127,11 @@ fn engine_questions_for_several_seeds_are_unchanged() {
                     "fluid_slides_train.json",
                     "fluid_slides_val.json",
                     "fluid_slides_test.json",
+                    "cloth_collision/0.json",
+                    "cloth_collision/1.json",
+                    "cloth_collision_train.json",
+                    "cloth_collision_val.json",
+                    "cloth_collision_test.json",
                     "soft_body/0.json",
                     "soft_body/1.json",
                     "soft_body_train.json",
