@@ -17,6 +17,7 @@
 //! contacts each update had ([`UpdateContacts`]), and [`XpbdError::NonFinite`] the moment
 //! anything stops being finite.
 
+mod box_edges;
 mod contact;
 pub mod rigid;
 pub mod sheet;
@@ -87,6 +88,9 @@ pub struct XpbdSettings {
     pub table_height: f64,
     /// Whether cloth particles collide with the same cloth's other particles.
     pub self_collision: bool,
+    /// Whether the boxes' edges collide with the cloth's triangles (besides its particles), so
+    /// that a box's edge cannot slip between two particles (`box_edges`).
+    pub box_edges: bool,
     /// Cloth particle speeds are capped here, m/s: above anything the scene moves at (the
     /// handle: 3 m/s; a 3-metre fall: 7.7 m/s). A cloth snagged on a box while the handle pulls
     /// stores stretch its few iterations cannot remove, and when it comes free the constraint
@@ -105,6 +109,7 @@ impl Default for XpbdSettings {
             rigid_friction: 0.6,
             table_height: 0.0,
             self_collision: true,
+            box_edges: true,
             max_speed: 15.0,
         }
     }
@@ -332,6 +337,9 @@ impl World {
                 let friction = sheet.properties().friction;
                 contact::project_particles_on_table(sheet, settings.table_height, friction);
                 contact::project_particles_on_boxes(sheet, &mut self.boxes, friction, touched);
+                if settings.box_edges {
+                    box_edges::project_box_edges(sheet, &mut self.boxes, friction, touched);
+                }
                 contact::project_self_contacts(sheet, &candidates.pairs);
             }
             contact::project_rigid(&mut self.boxes, &mut rigid, settings.rigid_friction);
