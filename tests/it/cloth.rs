@@ -1,8 +1,9 @@
 //! End-to-end cloth runs: the builtin programs with annotation backends answer every question
 //! the cloth engine asks, every option of every family, of copies of the hand-made video
 //! `tests/data/cloth_collision/0` (several engine seeds, per option and per question, the
-//! per-video files and the sampled test split). A wrong answer means the engine, the writer or
-//! the scene API disagree. The backends cloth does not have yet fail every unit at stage
+//! per-video files and the sampled test split) and of the two generated demo videos
+//! (`eval/demo/cloth_collision`). A wrong answer means the engine, the writer or the scene API
+//! disagree. The backends cloth does not have yet fail every unit at stage
 //! `scene_api` with a message that says so.
 
 use std::collections::BTreeMap;
@@ -183,4 +184,35 @@ fn simulated_cloth_dynamics_fail_every_unit_with_a_message_that_says_why() {
             "{prediction}"
         );
     }
+}
+
+#[test]
+fn builtin_programs_answer_every_question_of_the_generated_demo_videos() {
+    // The two demo videos are generated (`generate --scenario cloth --seed 2`), unlike the
+    // hand-made fixture: every family is asked about them and every unit is answered right.
+    let out = tempfile::tempdir().unwrap();
+    let run = out.path().join("demo");
+    let output = contphy(
+        &root(),
+        &[
+            "--data",
+            "eval/demo",
+            "--questions",
+            "eval/demo/cloth_collision/0.json",
+            "--questions",
+            "eval/demo/cloth_collision/1.json",
+            "--out",
+            run.to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let scores = assert_perfect(&run);
+    assert_eq!(
+        scores.keys().map(String::as_str).collect::<Vec<_>>(),
+        CLOTH_FAMILIES,
+        "{scores:?}"
+    );
+    let units: u64 = scores.values().map(|[_, _, _, options]| options).sum();
+    assert_eq!(units, 75);
 }
