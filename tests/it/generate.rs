@@ -12,6 +12,10 @@ use contphy_eval::dataset::{DataRoot, FourDData, Scenario};
 use contphy_eval::perception::camera::CameraModel;
 use contphy_eval::perception::frames::FrameSource;
 use contphy_eval::synth::palette::instance_color;
+use contphy_eval::synth::video::FrameOutput;
+use contphy_eval::synth::{
+    GenerateOptions, ScenarioSynth, appearance::Appearance, generate as generate_in_process,
+};
 
 use crate::support::{contphy, root, stderr, stdout};
 
@@ -358,6 +362,50 @@ fn boxes_match_masks(video: &contphy_eval::dataset::VideoFolder, frames: &[usize
     boxed
 }
 
+/// Generates video 0 of `scenario` in process (seed 4, 192×108 PNG frames, one job) into a new
+/// folder; returns the folder and the options.
+fn generate_one(
+    synth: &dyn ScenarioSynth,
+    scenario: Scenario,
+) -> (tempfile::TempDir, GenerateOptions) {
+    let out = tempfile::tempdir().unwrap();
+    let options = GenerateOptions {
+        scenario,
+        videos: 1,
+        seed: 4,
+        out: out.path().to_path_buf(),
+        jobs: 1,
+        frames: FrameOutput::Png,
+        width: 192,
+        height: 108,
+        appearance: Appearance::Release,
+    };
+    generate_in_process(synth, &options, &|_| {}).unwrap();
+    (out, options)
+}
+
+/// Generates two videos with two jobs from `options` (as [`generate_one`] made them) and checks
+/// that video 0's `files` have the same bytes as in `options.out`: the job count changes nothing.
+fn assert_same_bytes_with_two_jobs(
+    synth: &dyn ScenarioSynth,
+    options: &GenerateOptions,
+    files: &[&str],
+) {
+    let again = tempfile::tempdir().unwrap();
+    let two_jobs = GenerateOptions {
+        videos: 2,
+        jobs: 2,
+        out: again.path().to_path_buf(),
+        ..options.clone()
+    };
+    generate_in_process(synth, &two_jobs, &|_| {}).unwrap();
+    let video = Path::new(options.scenario.folder_name()).join("0");
+    for file in files {
+        let read = |root: &Path| fs_err::read(root.join(&video).join(file)).unwrap();
+        assert!(read(&options.out) == read(again.path()), "{file} differs");
+    }
+}
+
 /// A short fluid trial (the release's timeline would take minutes in a debug build): 120
 /// updates, 80 captured, later emitters at 50, 80 particles an emitter.
 const SHORT_FLUID: contphy_eval::synth::fluid::FluidSynth =
@@ -375,22 +423,7 @@ const SHORT_FLUID: contphy_eval::synth::fluid::FluidSynth =
 fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks() {
     use contphy_eval::dataset::engine::fluid::ENGINE;
     use contphy_eval::dataset::fluid::FluidAnnotation;
-    use contphy_eval::synth::{
-        GenerateOptions, appearance::Appearance, generate, video::FrameOutput,
-    };
-    let out = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        scenario: Scenario::Fluid,
-        videos: 1,
-        seed: 4,
-        out: out.path().to_path_buf(),
-        jobs: 1,
-        frames: FrameOutput::Png,
-        width: 192,
-        height: 108,
-        appearance: Appearance::Release,
-    };
-    generate(&SHORT_FLUID, &options, &|_| {}).unwrap();
+    let (out, options) = generate_one(&SHORT_FLUID, Scenario::Fluid);
     let data = DataRoot::open(out.path()).unwrap();
     let listing = data.list_videos(Scenario::Fluid).unwrap();
     let video = &listing.valid[0];
@@ -416,22 +449,15 @@ fn generated_fluid_videos_load_ask_questions_and_their_boxes_match_their_masks()
         "the fluids are drawn and labelled: {fluids_seen}"
     );
     // The same seed gives the same bytes whatever the job count.
-    let again = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        videos: 2,
-        jobs: 2,
-        out: again.path().to_path_buf(),
-        ..options
-    };
-    generate(&SHORT_FLUID, &options, &|_| {}).unwrap();
-    for file in [
-        "outputs.json",
-        "outputs4D.json",
-        "frames/output_Full_ori/frame_00039.png",
-    ] {
-        let read = |root: &Path| fs_err::read(root.join("fluid_slides/0").join(file)).unwrap();
-        assert!(read(out.path()) == read(again.path()), "{file} differs");
-    }
+    assert_same_bytes_with_two_jobs(
+        &SHORT_FLUID,
+        &options,
+        &[
+            "outputs.json",
+            "outputs4D.json",
+            "frames/output_Full_ori/frame_00039.png",
+        ],
+    );
 }
 
 #[test]
@@ -439,22 +465,7 @@ fn generated_ball_videos_load_ask_questions_and_their_boxes_match_their_masks() 
     use contphy_eval::dataset::ball::BallAnnotation;
     use contphy_eval::dataset::engine::ball::ENGINE;
     use contphy_eval::synth::ball::BALL_SYNTH;
-    use contphy_eval::synth::{
-        GenerateOptions, appearance::Appearance, generate, video::FrameOutput,
-    };
-    let out = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        scenario: Scenario::Ball,
-        videos: 1,
-        seed: 4,
-        out: out.path().to_path_buf(),
-        jobs: 1,
-        frames: FrameOutput::Png,
-        width: 192,
-        height: 108,
-        appearance: Appearance::Release,
-    };
-    generate(&BALL_SYNTH, &options, &|_| {}).unwrap();
+    let (out, options) = generate_one(&BALL_SYNTH, Scenario::Ball);
     let data = DataRoot::open(out.path()).unwrap();
     let listing = data.list_videos(Scenario::Ball).unwrap();
     let video = &listing.valid[0];
@@ -486,22 +497,15 @@ fn generated_ball_videos_load_ask_questions_and_their_boxes_match_their_masks() 
         "the balls are drawn and labelled: {balls_seen}"
     );
     // The same seed gives the same bytes whatever the job count.
-    let again = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        videos: 2,
-        jobs: 2,
-        out: again.path().to_path_buf(),
-        ..options
-    };
-    generate(&BALL_SYNTH, &options, &|_| {}).unwrap();
-    for file in [
-        "outputs.json",
-        "outputs4D.json",
-        "frames/output_Full_ori/frame_00060.png",
-    ] {
-        let read = |root: &Path| fs_err::read(root.join("soft_body/0").join(file)).unwrap();
-        assert!(read(out.path()) == read(again.path()), "{file} differs");
-    }
+    assert_same_bytes_with_two_jobs(
+        &BALL_SYNTH,
+        &options,
+        &[
+            "outputs.json",
+            "outputs4D.json",
+            "frames/output_Full_ori/frame_00060.png",
+        ],
+    );
 }
 
 #[test]
@@ -509,22 +513,7 @@ fn generated_cloth_videos_load_ask_questions_and_their_boxes_match_their_masks()
     use contphy_eval::dataset::cloth::ClothAnnotation;
     use contphy_eval::dataset::engine::cloth::ENGINE;
     use contphy_eval::synth::cloth::CLOTH_SYNTH;
-    use contphy_eval::synth::{
-        GenerateOptions, appearance::Appearance, generate, video::FrameOutput,
-    };
-    let out = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        scenario: Scenario::Cloth,
-        videos: 1,
-        seed: 4,
-        out: out.path().to_path_buf(),
-        jobs: 1,
-        frames: FrameOutput::Png,
-        width: 192,
-        height: 108,
-        appearance: Appearance::Release,
-    };
-    generate(&CLOTH_SYNTH, &options, &|_| {}).unwrap();
+    let (out, options) = generate_one(&CLOTH_SYNTH, Scenario::Cloth);
     let data = DataRoot::open(out.path()).unwrap();
     let listing = data.list_videos(Scenario::Cloth).unwrap();
     let video = &listing.valid[0];
@@ -556,21 +545,14 @@ fn generated_cloth_videos_load_ask_questions_and_their_boxes_match_their_masks()
         assert!(last.iter().any(|seen| seen == cloth), "{cloth} not boxed");
     }
     // The same seed gives the same bytes whatever the job count.
-    let again = tempfile::tempdir().unwrap();
-    let options = GenerateOptions {
-        videos: 2,
-        jobs: 2,
-        out: again.path().to_path_buf(),
-        ..options
-    };
-    generate(&CLOTH_SYNTH, &options, &|_| {}).unwrap();
-    for file in [
-        "outputs.json",
-        "outputs4D.json",
-        "frames/output_Full_ori/frame_00144.png",
-        "frames/output_Full_seg/frame_00144.png",
-    ] {
-        let read = |root: &Path| fs_err::read(root.join("cloth_collision/0").join(file)).unwrap();
-        assert!(read(out.path()) == read(again.path()), "{file} differs");
-    }
+    assert_same_bytes_with_two_jobs(
+        &CLOTH_SYNTH,
+        &options,
+        &[
+            "outputs.json",
+            "outputs4D.json",
+            "frames/output_Full_ori/frame_00144.png",
+            "frames/output_Full_seg/frame_00144.png",
+        ],
+    );
 }
