@@ -65,3 +65,15 @@ pub(crate) fn named_nothing(message: String, from_pixels: bool) -> ApiError {
 pub(crate) fn misuse(message: impl Into<String>) -> ApiError {
     ApiError::Misuse(message.into())
 }
+
+/// Every action word `happen` knows, in any scenario (the paper's API).
+const ALL_ACTIONS: &str =
+    "entering, passing, motion, rotation, collision, falling, touching, droping";
+
+/// `happen` was given an action no scenario knows: the message lists every action, then the
+/// ones `scenario` answers (`own`).
+pub(crate) fn unknown_action(action: &str, scenario: &str, own: &str) -> ApiError {
+    misuse(format!(
+        "happen: unknown action `{action}`; actions are {ALL_ACTIONS} ({scenario}: {own})"
+    ))
+}

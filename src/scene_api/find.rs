@@ -328,14 +328,8 @@ fn split_suffix(text: &str, words: Words<'_>, query: &mut NameQuery) -> Result<S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::{ball, cloth, fluid, rope};
-
-    const ALL: [&Vocabulary; 4] = [
-        &rope::VOCABULARY,
-        &fluid::VOCABULARY,
-        &cloth::VOCABULARY,
-        &ball::VOCABULARY,
-    ];
+    use crate::dataset::{ball, fluid, rope};
+    use crate::scene_api::test_support::ALL_VOCABULARIES as ALL;
 
     fn rope_words() -> Words<'static> {
         Words {

@@ -24,7 +24,7 @@ pub mod rope;
 mod scene;
 
 pub use error::ApiError;
-pub(crate) use error::{misuse, named_nothing};
+pub(crate) use error::{misuse, named_nothing, unknown_action};
 pub(crate) use find::resolve_description;
 pub use find::{NameQuery, Words, parse_object_query};
 pub use object::{ObjectAttribute, ObjectId, SceneObjectInfo};
@@ -33,3 +33,48 @@ pub use scene::{
     PerceptionModels, Property, ReadingCheck, ScenarioBackend, Scene, SceneEvent, SceneParts,
     Target, VideoSpec, WorkCounters,
 };
+
+#[cfg(test)]
+pub(crate) mod test_support {
+    //! Test helpers of the scenario backends: a scene over a fixture video with the parts the
+    //! scenario table gives its scenario (its vocabulary, every scenario's, its backend).
+
+    use std::path::PathBuf;
+
+    use crate::dataset::{Scenario, VideoFolder, VideoId, Vocabulary, ball, cloth, fluid, rope};
+    use crate::scene_api::{
+        BackendLoader, DynamicsBackend, PerceptionBackend, Scene, SceneParts, VideoSpec,
+    };
+
+    /// Every scenario's vocabulary, in the scenario table's order.
+    pub(crate) const ALL_VOCABULARIES: [&Vocabulary; 4] = [
+        &rope::VOCABULARY,
+        &fluid::VOCABULARY,
+        &cloth::VOCABULARY,
+        &ball::VOCABULARY,
+    ];
+
+    /// The scene of video `0` of `scenario` in `dir`, with the scenario's `vocabulary` and
+    /// `backend`.
+    pub(crate) fn open_scene(
+        scenario: Scenario,
+        dir: PathBuf,
+        (vocabulary, backend): (&'static Vocabulary, BackendLoader),
+        perception: PerceptionBackend,
+        dynamics: DynamicsBackend,
+    ) -> Scene {
+        let video = VideoFolder {
+            scenario,
+            id: VideoId("0".into()),
+            dir,
+        };
+        Scene::open(
+            VideoSpec::new(&video, perception, dynamics),
+            SceneParts {
+                vocabulary,
+                all_vocabularies: &ALL_VOCABULARIES,
+                backend: Some(backend),
+            },
+        )
+    }
+}

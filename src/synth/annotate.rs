@@ -22,6 +22,15 @@ pub struct LabelledObject {
     pub label_name: String,
 }
 
+/// `Id2ObjectNameDict` of a scene whose labelled objects are all its named ones: each object's
+/// instance id and name, in `labels`' order.
+pub fn names_by_id(labels: &[LabelledObject]) -> Vec<(u32, String)> {
+    labels
+        .iter()
+        .map(|label| (label.instance, label.name.clone()))
+        .collect()
+}
+
 /// A visible object's pixel box: `(min_x, min_y, max_x, max_y)`, inclusive pixel indices.
 pub type PixelBox = (u32, u32, u32, u32);
 

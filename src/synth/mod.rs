@@ -165,7 +165,7 @@ pub(crate) fn four_d_document(
     voxel_size: f64,
     soft_bodies: Vec<(String, Vec<Vec<[f64; 3]>>)>,
 ) -> Value {
-    let round = |v: f64| (v * 1e5).round() / 1e5;
+    let round = |v: f64| unity::round(v, 5);
     let mut tracked = Map::new();
     let mut empty_meshes = Map::new();
     for (name, frames) in soft_bodies {
@@ -192,7 +192,7 @@ pub(crate) fn four_d_document(
 
 /// The `rigidbody4D` part of [`four_d_document`].
 fn static_rigid_bodies(parts: &[StaticPart<'_>], voxel_size: f64) -> Value {
-    let round = |v: f64| (v * 1e5).round() / 1e5;
+    let round = |v: f64| unity::round(v, 5);
     let mut staticity = Map::new();
     let mut centroids = Map::new();
     let mut vertices = Map::new();

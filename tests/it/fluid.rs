@@ -6,9 +6,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use serde_json::Value;
-
-use crate::support::{contphy, predictions_without_timings, root, stderr};
+use crate::support::{assert_perfect, contphy, fixture_data_root, stderr};
 
 /// The fluid engine's families.
 const FLUID_FAMILIES: [&str; 7] = [
@@ -20,19 +18,6 @@ const FLUID_FAMILIES: [&str; 7] = [
     "fluid_counterfactual_container",
     "fluid_goaldriven_container",
 ];
-
-/// A temporary data root holding the hand-made fluid video (its annotations).
-fn fixture_data_root() -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    let video = dir.path().join("fluid_slides/0");
-    fs_err::create_dir_all(&video).unwrap();
-    fs_err::copy(
-        root().join("tests/data/fluid_slides/0/outputs.json"),
-        video.join("outputs.json"),
-    )
-    .unwrap();
-    dir
-}
 
 /// Writes the engine's questions of every video of `data` with `seed`, then runs the builtin
 /// programs on video `0`'s question file into `run` with `extra` options.
@@ -53,58 +38,14 @@ fn questions_and_run(data: &Path, seed: &str, run: &Path, extra: &[&str]) {
     assert!(output.status.success(), "seed {seed}: {}", stderr(&output));
 }
 
-/// Per family of a run: (questions right, questions, options right, options).
-fn family_scores(run: &Path) -> BTreeMap<String, [u64; 4]> {
-    let results: Value =
-        serde_json::from_slice(&fs_err::read(run.join("results.json")).unwrap()).unwrap();
-    assert_eq!(results["scores"]["failures"], serde_json::json!({}));
-    assert_eq!(results["scores"]["missing_units"], 0);
-    results["scores"]["families"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|family| {
-            let model = &family["model"];
-            let count = |key: &str| model[key].as_u64().unwrap();
-            (
-                family["family"].as_str().unwrap().to_string(),
-                [
-                    count("questions_correct"),
-                    count("questions"),
-                    count("options_correct"),
-                    count("options"),
-                ],
-            )
-        })
-        .collect()
-}
-
-/// Asserts that every unit of `run` is answered right, with no simulation and no frames.
-fn assert_perfect(run: &Path) -> BTreeMap<String, [u64; 4]> {
-    let scores = family_scores(run);
-    for (family, [questions_right, questions, options_right, options]) in &scores {
-        assert!(
-            FLUID_FAMILIES.contains(&family.as_str()),
-            "not a fluid family: {family}"
-        );
-        assert_eq!(questions_right, questions, "{family}: {scores:?}");
-        assert_eq!(options_right, options, "{family}: {scores:?}");
-    }
-    for prediction in predictions_without_timings(run) {
-        assert_eq!(prediction["work"]["sim_runs"], 0, "{prediction}");
-        assert_eq!(prediction["work"]["frames_decoded"], 0, "{prediction}");
-    }
-    scores
-}
-
 #[test]
 fn builtin_programs_answer_every_fluid_family_of_the_fixture() {
-    let data = fixture_data_root();
+    let data = fixture_data_root("fluid_slides", 1);
     let mut totals: BTreeMap<String, [u64; 4]> = BTreeMap::new();
     for seed in ["0", "1", "2", "3", "4"] {
         let run = data.path().join(format!("run-{seed}"));
         questions_and_run(data.path(), seed, &run, &[]);
-        for (family, counts) in assert_perfect(&run) {
+        for (family, counts) in assert_perfect(&run, &FLUID_FAMILIES) {
             let total = totals.entry(family).or_default();
             for (sum, count) in total.iter_mut().zip(counts) {
                 *sum += count;
@@ -131,7 +72,7 @@ fn builtin_programs_answer_every_fluid_family_of_the_fixture() {
     // One program per choice question answers all its options the same way.
     let run = data.path().join("per-question");
     questions_and_run(data.path(), "0", &run, &["--per-question"]);
-    let per_question = assert_perfect(&run);
+    let per_question = assert_perfect(&run, &FLUID_FAMILIES);
     assert_eq!(per_question.len(), FLUID_FAMILIES.len(), "{per_question:?}");
 }
 
@@ -190,7 +131,7 @@ fn builtin_programs_answer_every_question_of_generated_fluid_videos() {
             "video {video}: {}",
             stderr(&output)
         );
-        for (family, [_, questions, _, options]) in assert_perfect(&run) {
+        for (family, [_, questions, _, options]) in assert_perfect(&run, &FLUID_FAMILIES) {
             let total: &mut [u64; 2] = asked.entry(family).or_default();
             total[0] += questions;
             total[1] += options;

@@ -48,27 +48,34 @@ pub(super) fn project_box_edges(
         if !near.iter().any(|&n| n) {
             continue;
         }
-        let edges = box_edges(target);
+        // Re-read after every push: a push moves the triangle and the box, and the next edge
+        // (Gauss–Seidel) sees where they went.
+        let mut edges = box_edges(target);
         for t in 0..sheet.triangles().len() {
             let triangle = sheet.triangles()[t];
             if !triangle.iter().any(|&k| near[k]) {
                 continue;
             }
-            for &(start, end) in &edges {
-                let corners = triangle.map(|k| sheet.positions[k]);
-                let centroid = v3::scale(
-                    v3::add(v3::add(corners[0], corners[1]), corners[2]),
-                    1.0 / 3.0,
-                );
+            let mut centroid = triangle_centroid(sheet, triangle);
+            for edge in 0..edges.len() {
+                let (start, end) = edges[edge];
                 if point_segment_distance(centroid, start, end) > margin {
                     continue;
                 }
                 if push_apart(sheet, target, triangle, (start, end), (radius, friction)) {
                     touched[index] = true;
+                    edges = box_edges(target);
+                    centroid = triangle_centroid(sheet, triangle);
                 }
             }
         }
     }
+}
+
+/// The centroid of a triangle of the sheet, metres.
+fn triangle_centroid(sheet: &Sheet, triangle: [usize; 3]) -> Vector {
+    let [a, b, c] = triangle.map(|k| sheet.positions[k]);
+    v3::scale(v3::add(v3::add(a, b), c), 1.0 / 3.0)
 }
 
 /// The twelve edges of a box, world end points.

@@ -488,6 +488,6 @@ fn a_dragged_cloth_scene_has_a_golden_hash() {
     let hash = hasher.finalize().to_hex().to_string();
     assert_eq!(
         hash,
-        "103ab50ae11dcbaa1059b30f89e9529887006a2c14c3d2b497732f758102c05f"
+        "4e2be7f59c4e99c9bca3b0b1036252419dfb98e56684dafa456532fadb59af4b"
     );
 }

@@ -239,18 +239,12 @@ fn choice_body(title: &str, option: &str) -> Result<String, WriterError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::{Question, QuestionId, QuestionRecord, Scenario, VideoId};
+    use crate::dataset::{Question, Scenario};
+    use crate::program::builtin::test_question;
     use crate::program::builtin::{write_program as write, write_question_program};
 
     fn question(text: &str, answer: &str, family: &str, answer_type: &str) -> Question {
-        let record = QuestionRecord::new(text, answer, family, answer_type);
-        Question::from_record(
-            QuestionId("q".into()),
-            VideoId("0".into()),
-            Scenario::Fluid,
-            record,
-        )
-        .unwrap()
+        test_question(Scenario::Fluid, text, answer, family, answer_type)
     }
 
     fn option_program(text: &str, family: &str) -> String {

@@ -169,3 +169,22 @@ pub(crate) fn with_kind(phrase: &str, kind: &str) -> String {
         format!("{phrase} {kind}")
     }
 }
+
+/// A question of `scenario` as the writers' tests build it: id `q`, video `0`.
+#[cfg(test)]
+pub(crate) fn test_question(
+    scenario: Scenario,
+    text: &str,
+    answer: &str,
+    family: &str,
+    answer_type: &str,
+) -> Question {
+    let record = crate::dataset::QuestionRecord::new(text, answer, family, answer_type);
+    Question::from_record(
+        crate::dataset::QuestionId("q".into()),
+        crate::dataset::VideoId("0".into()),
+        scenario,
+        record,
+    )
+    .expect("a test question is well formed")
+}

@@ -54,7 +54,7 @@ use crate::perception::ball::PERCEPTION;
 use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
-    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
 };
 
 /// The vocabulary attribute that tells the pits apart.
@@ -518,9 +518,7 @@ impl ScenarioBackend for BallBackend {
                 )));
             }
             _ => {
-                return Err(misuse(format!(
-                    "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (ball: droping)"
-                )));
+                return Err(unknown_action(action, "ball", "droping"));
             }
         }
         let Some(Role::Ball(_, ball_index)) = self.role(subject) else {

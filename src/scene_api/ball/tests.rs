@@ -7,31 +7,20 @@
 use std::path::{Path, PathBuf};
 
 use super::*;
-use crate::dataset::{VideoFolder, VideoId};
-use crate::scene_api::{Scene, SceneParts};
+use crate::scene_api::Scene;
+use crate::scene_api::test_support::open_scene;
 
 fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/soft_body/0")
 }
 
 fn open(perception: PerceptionBackend, dynamics: DynamicsBackend) -> Scene {
-    let video = VideoFolder {
-        scenario: Scenario::Ball,
-        id: VideoId("0".into()),
-        dir: fixture_dir(),
-    };
-    Scene::open(
-        VideoSpec::new(&video, perception, dynamics),
-        SceneParts {
-            vocabulary: &VOCABULARY,
-            all_vocabularies: &[
-                &crate::dataset::rope::VOCABULARY,
-                &crate::dataset::fluid::VOCABULARY,
-                &crate::dataset::cloth::VOCABULARY,
-                &VOCABULARY,
-            ],
-            backend: Some(load),
-        },
+    open_scene(
+        Scenario::Ball,
+        fixture_dir(),
+        (&VOCABULARY, load),
+        perception,
+        dynamics,
     )
 }
 

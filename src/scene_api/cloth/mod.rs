@@ -39,7 +39,7 @@ use crate::dataset::cloth::outcome::Pose;
 use crate::dataset::cloth::{BoxRecord, ClothAnnotation, ClothProperties, VOCABULARY};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
-    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
 };
 
 /// The vocabulary attribute that tells the cloths apart.
@@ -340,9 +340,11 @@ fn parse_action(action: &str) -> Result<Question, ApiError> {
                 "happen: `{action}` belongs to other scenarios; cloth scenes answer 'falling', 'collision' and 'touching' (and final_pose for the end pose)"
             )))
         }
-        _ => Err(misuse(format!(
-            "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (cloth: falling, collision, touching)"
-        ))),
+        _ => Err(unknown_action(
+            action,
+            "cloth",
+            "falling, collision, touching",
+        )),
     }
 }
 

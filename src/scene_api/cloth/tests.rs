@@ -9,31 +9,20 @@
 use std::path::{Path, PathBuf};
 
 use super::*;
-use crate::dataset::{VideoFolder, VideoId};
-use crate::scene_api::{Scene, SceneParts};
+use crate::scene_api::Scene;
+use crate::scene_api::test_support::open_scene;
 
 fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cloth_collision/0")
 }
 
 fn open(perception: PerceptionBackend, dynamics: DynamicsBackend) -> Scene {
-    let video = VideoFolder {
-        scenario: Scenario::Cloth,
-        id: VideoId("0".into()),
-        dir: fixture_dir(),
-    };
-    Scene::open(
-        VideoSpec::new(&video, perception, dynamics),
-        SceneParts {
-            vocabulary: &VOCABULARY,
-            all_vocabularies: &[
-                &crate::dataset::rope::VOCABULARY,
-                &crate::dataset::fluid::VOCABULARY,
-                &VOCABULARY,
-                &crate::dataset::ball::VOCABULARY,
-            ],
-            backend: Some(load),
-        },
+    open_scene(
+        Scenario::Cloth,
+        fixture_dir(),
+        (&VOCABULARY, load),
+        perception,
+        dynamics,
     )
 }
 

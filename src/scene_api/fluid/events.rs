@@ -19,6 +19,7 @@ use super::{FluidBackend, Role};
 use crate::dataset::fluid::{FluidTracking, base_fluid_name};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, SceneEvent, SceneObjectInfo, Target, misuse,
+    unknown_action,
 };
 
 /// The run an event starts.
@@ -64,9 +65,11 @@ impl Outcome {
             | "falling" | "touching" | "droping" | "dropping" => Err(misuse(format!(
                 "happen: `{action}` belongs to other scenarios; fluid scenes answer 'passing' (a stick), 'entering' and 'entering most' (a container)"
             ))),
-            _ => Err(misuse(format!(
-                "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (fluid: passing, entering, entering most)"
-            ))),
+            _ => Err(unknown_action(
+                action,
+                "fluid",
+                "passing, entering, entering most",
+            )),
         }
     }
 

@@ -17,8 +17,9 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use super::*;
-use crate::dataset::{Scenario, VideoFolder, VideoId};
-use crate::scene_api::{EventAction, Scene, SceneParts};
+use crate::dataset::Scenario;
+use crate::scene_api::test_support::open_scene;
+use crate::scene_api::{EventAction, Scene};
 
 fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fluid_slides/0")
@@ -26,23 +27,12 @@ fn fixture_dir() -> PathBuf {
 
 /// A fluid scene of `dir` with fluid's parts (the scenario table's fluid row).
 fn open(dir: PathBuf, perception: PerceptionBackend, dynamics: DynamicsBackend) -> Scene {
-    let video = VideoFolder {
-        scenario: Scenario::Fluid,
-        id: VideoId("0".into()),
+    open_scene(
+        Scenario::Fluid,
         dir,
-    };
-    Scene::open(
-        VideoSpec::new(&video, perception, dynamics),
-        SceneParts {
-            vocabulary: &VOCABULARY,
-            all_vocabularies: &[
-                &crate::dataset::rope::VOCABULARY,
-                &VOCABULARY,
-                &crate::dataset::cloth::VOCABULARY,
-                &crate::dataset::ball::VOCABULARY,
-            ],
-            backend: Some(load),
-        },
+        (&VOCABULARY, load),
+        perception,
+        dynamics,
     )
 }
 

@@ -40,7 +40,7 @@ use crate::dataset::rope::{
 use crate::dataset::{Camera, FourDData};
 use crate::perception::rope::PERCEPTION;
 use crate::scene_api::perceiver::{PerceivedScene, Perceiver};
-use crate::scene_api::{ApiError, ObjectId, SceneObjectInfo, misuse};
+use crate::scene_api::{ApiError, ObjectId, SceneObjectInfo, misuse, unknown_action};
 use crate::scene_api::{
     DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
     VideoSpec,
@@ -604,9 +604,7 @@ impl ScenarioBackend for RopeBackend {
                 )));
             }
             _ => {
-                return Err(misuse(format!(
-                    "happen: unknown action `{action}`; actions are entering, passing, motion, rotation, collision, falling, touching, droping (rope: motion, rotation)"
-                )));
+                return Err(unknown_action(action, "rope", "motion, rotation"));
             }
         };
         let sign = results.get(&info.name).ok_or_else(|| {
@@ -635,12 +633,7 @@ mod tests {
             spec,
             crate::scene_api::SceneParts {
                 vocabulary: &VOCABULARY,
-                all_vocabularies: &[
-                    &VOCABULARY,
-                    &crate::dataset::fluid::VOCABULARY,
-                    &crate::dataset::cloth::VOCABULARY,
-                    &crate::dataset::ball::VOCABULARY,
-                ],
+                all_vocabularies: &crate::scene_api::test_support::ALL_VOCABULARIES,
                 backend: Some(load),
             },
         )

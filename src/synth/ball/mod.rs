@@ -20,6 +20,7 @@ use serde_json::{Map, Value, json};
 use self::layout::{Layout, SlabLayout, sample_layout};
 use self::scene::BallView;
 use self::simulate::{BallRun, RunKind, run};
+use super::annotate::names_by_id;
 use super::background::Wall;
 use super::camera::truncated_normal;
 use super::shadow::RELEASE_SHADOW;
@@ -127,10 +128,7 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<SynthesizedVid
         .map(|frame| view.items(&factual, frame))
         .collect();
     let labels = view.labels();
-    let id_to_name = labels
-        .iter()
-        .map(|l| (l.instance, l.name.clone()))
-        .collect();
+    let id_to_name = names_by_id(&labels);
     Ok(SynthesizedVideo {
         four_d: view.four_d(&factual),
         annotations,

@@ -20,6 +20,7 @@ use serde_json::{Map, json};
 use self::layout::{HalfLayout, Layout, sample_layout};
 use self::scene::ClothView;
 use self::simulate::{BoxOutcome, HalfRun, box_body, run_half};
+use super::annotate::names_by_id;
 use super::background::Wall;
 use super::camera::{CameraSample, frame_camera, truncated_normal};
 use super::shadow::RELEASE_SHADOW;
@@ -135,10 +136,7 @@ fn trial(rng: &mut ChaCha8Rng, width: u32, height: u32) -> Result<SynthesizedVid
         .map(|frame| view.items(&runs, frame))
         .collect();
     let labels = view.labels();
-    let id_to_name = labels
-        .iter()
-        .map(|l| (l.instance, l.name.clone()))
-        .collect();
+    let id_to_name = names_by_id(&labels);
     Ok(SynthesizedVideo {
         four_d: view.four_d(&layout, &runs),
         annotations,

@@ -15,6 +15,7 @@ use crate::physics::vector3::{self as v3, Quaternion, Vector, rotation_matrix};
 use crate::synth::Item;
 use crate::synth::annotate::LabelledObject;
 use crate::synth::mesh::{Mesh, Pose};
+use crate::synth::unity::round;
 use crate::synth::unity::unity_euler_degrees;
 
 /// The table's top is at y = 0; it is this large (x, thickness, z), units.
@@ -157,7 +158,7 @@ impl ClothView {
     /// vertices are the particles and their faces the fixed grid.
     pub fn four_d(&self, layout: &Layout, runs: &[HalfRun; 2]) -> Value {
         let first = SPAWN_UPDATE / CAPTURE_EVERY;
-        let round = |v: f64| (v * 1e5).round() / 1e5;
+        let rounded = |v: f64| round(v, 5);
         let mut staticity = Map::new();
         let mut centroids = Map::new();
         let mut vertices = Map::new();
@@ -180,7 +181,7 @@ impl ClothView {
                 };
                 let pose_json = |(position, orientation): (Vector, Quaternion)| {
                     let euler = unity_euler_degrees(&rotation_matrix(orientation));
-                    json!([position.map(round), euler.map(round)])
+                    json!([position.map(rounded), euler.map(rounded)])
                 };
                 staticity.insert(name.clone(), json!(false));
                 centroids.insert(
@@ -192,18 +193,19 @@ impl ClothView {
                     rotation,
                     translation: position,
                 });
-                let points: Vec<[f64; 3]> = placed.positions.iter().map(|p| p.map(round)).collect();
+                let points: Vec<[f64; 3]> =
+                    placed.positions.iter().map(|p| p.map(rounded)).collect();
                 vertices.insert(name.clone(), json!(points));
                 let flat: Vec<u32> = placed.triangles.iter().flatten().copied().collect();
                 faces.insert(name.clone(), json!(flat));
                 let mut rows = vec![
-                    json!(position.map(round)),
-                    json!(unity_euler_degrees(&rotation).map(round)),
+                    json!(position.map(rounded)),
+                    json!(unity_euler_degrees(&rotation).map(rounded)),
                 ];
                 rows.extend(
                     box_voxels(entry.size, position, orientation)
                         .into_iter()
-                        .map(|p| json!(p.map(round))),
+                        .map(|p| json!(p.map(rounded))),
                 );
                 voxels.insert(name.clone(), Value::Array(rows));
             }
@@ -218,7 +220,9 @@ impl ClothView {
                 .iter()
                 .skip(first)
                 .filter_map(|frame| frame.cloth.as_ref())
-                .map(|particles| json!(particles.iter().map(|p| p.map(round)).collect::<Vec<_>>()))
+                .map(|particles| {
+                    json!(particles.iter().map(|p| p.map(rounded)).collect::<Vec<_>>())
+                })
                 .collect();
             let count = frames.len();
             let name = half.side.cloth_name().to_string();

@@ -86,7 +86,7 @@ fn a_generated_video_reads_back_with_consistent_records_and_a_golden_hash() {
         .to_string();
     assert_eq!(
         hash,
-        "f84ce0bc49f2d139b6072aa04ae8d8a55c1c569888b6ab3b0066c0d0281aaaeb"
+        "1718da8b46c21b57cac4b7cc548b9ec7b051eabd35b73db1d9f0a6dc3a90058e"
     );
 }
 

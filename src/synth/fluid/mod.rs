@@ -25,6 +25,7 @@ use self::layout::{
 use self::scene::FluidView;
 use self::simulate::{FluidScene, RunKind, Timeline, run};
 use self::tracking::track;
+use super::annotate::names_by_id;
 use super::background::Wall;
 use super::camera::{CameraSample, frame_camera, truncated_normal};
 use super::raster::Light;
@@ -159,10 +160,7 @@ fn trial(
         .map(|positions| view.items(&factual, positions))
         .collect();
     let labels = view.labels();
-    let id_to_name = labels
-        .iter()
-        .map(|l| (l.instance, l.name.clone()))
-        .collect();
+    let id_to_name = names_by_id(&labels);
     Ok(SynthesizedVideo {
         four_d: view.four_d(&factual),
         annotations,
