@@ -105,7 +105,9 @@ fn builtin_programs_answer_every_cloth_family_of_the_fixture() {
 }
 
 #[test]
-fn simulated_cloth_dynamics_fail_every_unit_with_a_message_that_says_why() {
+fn simulated_cloth_dynamics_without_tracked_particles_fail_every_unit_saying_what_is_missing() {
+    // The hand-made fixture has no outputs4D.json, from which `--dynamics simulate` reads the
+    // cloths.
     let data = fixture_data_root("cloth_collision", 4);
     make_questions(data.path(), "0");
     let run = data.path().join("simulate");
@@ -125,7 +127,7 @@ fn simulated_cloth_dynamics_fail_every_unit_with_a_message_that_says_why() {
         assert_eq!(error["stage"], "scene_api", "{prediction}");
         assert!(
             error["message"].as_str().unwrap().contains(
-                "SceneUnavailableError`: --dynamics simulate: there is no cloth simulation backend yet"
+                "SceneUnavailableError`: --dynamics simulate reads the cloths' tracked particles: "
             ),
             "{prediction}"
         );

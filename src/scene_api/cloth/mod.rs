@@ -1,11 +1,16 @@
 //! The cloth scene (`cloth_collision`): objects from the annotation's boxes and the two cloths;
 //! cloth properties and what happens to the boxes under the cloth from its records
-//! (`--dynamics annotation`, the paper's offline mode).
+//! (`--dynamics annotation`, the paper's offline mode) or from the video and a simulation
+//! (`--dynamics simulate`).
 //!
-//! Input: a video's `outputs.json` ([`ClothAnnotation`]). Output: the scene's objects and the
-//! answers of `query`, `register_event`, `happen` and `final_pose` (`docs/data/cloth.md`).
-//! Cloth has no simulation backend and no perception model yet: under `--dynamics simulate` or
-//! `--perception maskrcnn` loading the scene fails with [`ApiError::Unavailable`] saying so.
+//! Input: a video's `outputs.json` ([`ClothAnnotation`]); under `--dynamics simulate` also its
+//! tracked particles (`outputs4D.json`). Output: the scene's objects and the answers of `query`,
+//! `register_event`, `happen` and `final_pose` (`docs/data/cloth.md`). Under `--dynamics
+//! simulate` the cloths' properties are read from their particles ([`infer`]) and each half is
+//! simulated ([`simulate`]) on the first question about one of its boxes (`runs`); of the
+//! annotation only the boxes' sizes, shapes and start poses are read (what the first frames
+//! show). Cloth has no perception model yet: under `--perception maskrcnn` loading the scene
+//! fails with [`ApiError::Unavailable`] saying so.
 //!
 //! Objects, in this order: the two cloths (`Cloth (Left)`, `Cloth (Right)`: kind `cloth`, no
 //! colour, `side` left or right, so `left cloth`), then every pillar and plate of the left half
@@ -13,8 +18,10 @@
 //! layers the release practically never leaves unmerged) are not objects: no question or scene
 //! word names them.
 //!
-//! Answers agree with the question engine (`dataset::engine::cloth`) by construction, reading
-//! the same keys with the same shared rules:
+//! Under `--dynamics annotation`, answers agree with the question engine
+//! (`dataset::engine::cloth`) by construction, reading the same keys with the same shared rules
+//! (under `--dynamics simulate` the same rules read the simulated run, and a box the simulation
+//! leaves leaning has fallen over when it tilts past 45°):
 //!
 //! * `elasticity` of a cloth is its `stretchingCompliance` (0.011 stretches, 0 does not: the
 //!   larger is the more elastic); `bending` is its `bendingCompliance`, really the maximum
@@ -30,17 +37,25 @@
 //! * `final_pose(box)`: the option phrase of its end pose ([`Pose::phrase`]), the words the
 //!   pose questions offer.
 
+pub mod infer;
+mod inference_bench;
+mod runs;
+pub mod simulate;
 #[cfg(test)]
 mod tests;
 
 use crate::dataset::Scenario;
 use crate::dataset::cloth::names::{Shape, Side, parse_box_name};
 use crate::dataset::cloth::outcome::Pose;
-use crate::dataset::cloth::{BoxRecord, ClothAnnotation, ClothProperties, VOCABULARY};
+use crate::dataset::cloth::{BoxRecord, ClothAnnotation, ClothProperties, VALUES, VOCABULARY};
+use crate::physics::vector3 as v3;
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
 };
+pub use inference_bench::inference_report;
+use runs::ClothRuns;
+use simulate::{ClothModel, HalfRun};
 
 /// The vocabulary attribute that tells the cloths apart.
 const SIDE: &str = "side";
@@ -57,14 +72,15 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
                 .to_string(),
         ));
     }
-    if spec.dynamics != DynamicsBackend::Annotation {
-        return Err(ApiError::Unavailable(
-            "--dynamics simulate: there is no cloth simulation backend yet; cloth scenes answer from their recorded outcomes (--dynamics annotation)"
-                .to_string(),
+    let annotation = ClothAnnotation::load(&spec.video_dir.join("outputs.json"))?;
+    let mut backend = ClothBackend::new(annotation);
+    if spec.dynamics == DynamicsBackend::Simulate {
+        backend.runs = Some(ClothRuns::new(
+            spec.video_dir.clone(),
+            ClothModel::default(),
         ));
     }
-    let annotation = ClothAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-    Ok(Box::new(ClothBackend::new(annotation)))
+    Ok(Box::new(backend))
 }
 
 /// What an object of the scene stands for.
@@ -104,11 +120,14 @@ enum Question {
     Between(Relation),
 }
 
-/// One cloth video's answers, from its annotations.
+/// One cloth video's answers, from its annotations or (`--dynamics simulate`) its runs.
 pub(crate) struct ClothBackend {
     annotation: ClothAnnotation,
     objects: Vec<SceneObjectInfo>,
     roles: Vec<Role>,
+    /// Under `--dynamics simulate`, the video's simulation (its parts made on first use);
+    /// `None` answers from the annotation's records.
+    runs: Option<ClothRuns>,
 }
 
 impl ClothBackend {
@@ -164,6 +183,7 @@ impl ClothBackend {
             annotation,
             objects,
             roles,
+            runs: None,
         }
     }
 
@@ -292,6 +312,9 @@ impl ClothBackend {
                 subject.describe()
             )));
         }
+        if let Some((run, index)) = self.simulated(subject)? {
+            return Ok(simulated_fall(run, index));
+        }
         record.end_pose.fell_over().ok_or_else(|| {
             ApiError::Unavailable(format!(
                 "happen: the {} ends leaning, its top still pointing up (final_pose: \"{}\"): it has neither clearly fallen over nor stayed upright, so 'falling' has no answer",
@@ -318,11 +341,98 @@ impl ClothBackend {
                 subject.describe()
             )));
         }
+        if let Some((run, first)) = self.simulated(subject)? {
+            let same_half = self
+                .annotation
+                .find_box(&subject.name)
+                .map(|(side, _)| side)
+                == self.annotation.find_box(&other.name).map(|(side, _)| side);
+            let Some(second) = self.half_index(other).filter(|_| same_half) else {
+                // The halves stand 4.8 units apart: boxes of different halves never meet.
+                return Ok(false);
+            };
+            let pair = (first.min(second), first.max(second));
+            return Ok(match relation {
+                Relation::Collision => run.collided.contains(&pair),
+                Relation::Touch => run.touching.contains(&pair),
+            });
+        }
         Ok(match relation {
             Relation::Collision => self.annotation.collided(&subject.name, &other.name),
             Relation::Touch => self.annotation.in_touch(&subject.name, &other.name),
         })
     }
+
+    /// The index of `object` among its half's boxes.
+    fn half_index(&self, object: &SceneObjectInfo) -> Option<usize> {
+        let (side, _) = self.annotation.find_box(&object.name)?;
+        self.annotation
+            .objects(side)
+            .boxes()
+            .position(|record| record.name == object.name)
+    }
+
+    /// Under `--dynamics simulate`, the simulated run of the half of the box `object` and the
+    /// box's index in it (simulated on first use); `None` under `--dynamics annotation`.
+    fn simulated(&self, object: &SceneObjectInfo) -> Result<Option<(&HalfRun, usize)>, ApiError> {
+        let Some(runs) = &self.runs else {
+            return Ok(None);
+        };
+        let (side, index) = self
+            .annotation
+            .find_box(&object.name)
+            .map(|(side, _)| side)
+            .zip(self.half_index(object))
+            .ok_or_else(|| {
+                ApiError::Unavailable(format!(
+                    "the video has no record of the {}",
+                    object.describe()
+                ))
+            })?;
+        Ok(Some((runs.half(&self.annotation, side)?, index)))
+    }
+
+    /// Under `--dynamics simulate`, which cloth the video shows to have more of `property`;
+    /// [`Told::Recorded`] under `--dynamics annotation`.
+    fn told(&self, property: Property) -> Result<Told, ApiError> {
+        let Some(runs) = &self.runs else {
+            return Ok(Told::Recorded);
+        };
+        let verdict = runs.observed()?.verdict;
+        let more = match property {
+            Property::Bending => verdict.bends,
+            _ => verdict.stretches,
+        };
+        Ok(more.map_or(Told::Undecided, Told::More))
+    }
+}
+
+/// Whether the simulated box `index` of `run` fell over: its end pose by the shared rule, and a
+/// box that ends leaning by its tilt (past 45° it has fallen). A prediction that leans is
+/// still an answer: the release's box either stood, lay or tipped, and the simulation's lean
+/// is nearer one of them.
+fn simulated_fall(run: &HalfRun, index: usize) -> bool {
+    let pose = run.end_poses.get(index).copied().unwrap_or(Pose::Upright);
+    pose.fell_over().unwrap_or_else(|| {
+        let up = run
+            .end_states
+            .get(index)
+            .map_or([0.0, 1.0, 0.0], |(_, orientation)| {
+                v3::apply(&v3::rotation_matrix(*orientation), [0.0, 1.0, 0.0])
+            });
+        up[1] < std::f64::consts::FRAC_1_SQRT_2
+    })
+}
+
+/// Which cloth has more of a property, as a backend tells it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Told {
+    /// The annotation's values answer (`--dynamics annotation`).
+    Recorded,
+    /// The video shows this cloth to have more of it.
+    More(Side),
+    /// The video does not tell.
+    Undecided,
 }
 
 /// The question an action word of `happen` asks in cloth scenes.
@@ -369,13 +479,37 @@ impl ScenarioBackend for ClothBackend {
                 )));
             }
         };
+        let told = self.told(property)?;
         objects
             .iter()
             .map(|id| {
                 let object = self.info(*id, function)?;
-                Ok(Some(value(self.cloth(object, property, function)?)))
+                let recorded = value(self.cloth(object, property, function)?);
+                let Some(Role::Cloth(side)) = self.role(object) else {
+                    return Ok(Some(recorded));
+                };
+                let values = match property {
+                    Property::Bending => VALUES.max_bending,
+                    _ => VALUES.stretch_compliance,
+                };
+                match told {
+                    Told::Recorded => Ok(Some(recorded)),
+                    Told::More(more) if more == side => Ok(Some(values[0])),
+                    Told::More(_) => Ok(Some(values[1])),
+                    Told::Undecided => Err(ApiError::Unavailable(format!(
+                        "{function}: the video does not tell which cloth {} more: the two cloths' tracked particles measure too alike",
+                        match property {
+                            Property::Bending => "bends",
+                            _ => "stretches",
+                        }
+                    ))),
+                }
             })
             .collect()
+    }
+
+    fn simulation_work(&self) -> (u64, u64) {
+        self.runs.as_ref().map_or((0, 0), ClothRuns::work)
     }
 
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
@@ -410,6 +544,10 @@ impl ScenarioBackend for ClothBackend {
         self.check_event(event)?;
         let subject = self.info(object, "final_pose")?;
         let record = self.box_record(subject, "final_pose", "it asks about")?;
-        Ok(Some(Pose::phrase(record.end_pose).to_string()))
+        let pose = match self.simulated(subject)? {
+            Some((run, index)) => run.end_poses.get(index).copied().unwrap_or(record.end_pose),
+            None => record.end_pose,
+        };
+        Ok(Some(Pose::phrase(pose).to_string()))
     }
 }

@@ -1,0 +1,438 @@
+//! Cloth runs by simulation (`--dynamics simulate`): one half of the table as the video shows it
+//! at the start (its pillars and plates where they stand, the cloth where it spawns), the cloth
+//! given the properties read from the video (`infer`) and dragged by the handle as far as the
+//! video shows, run through the release's timeline on the XPBD solver (`physics::xpbd`) at an
+//! inference setting ([`ClothModel`]), and read as the release reads its runs: which boxes
+//! collide, which touch at the end, each box's end pose.
+//!
+//! Units are the scene's: lengths in units (metres), time in seconds, one update 1/60 s, `y`
+//! up, the table's top at `y = 0`, masses in kg.
+//!
+//! What the video cannot show is assumed, each a stated choice:
+//!
+//! * **Masses.** The release draws each box's mass from a pool set by its half's cloth friction
+//!   (low: plates 2 kg, pillars 6.5 kg; high: plates 4 kg, pillars 12 kg; and in both an
+//!   effectively immovable 99999 kg for about one pillar in four and two plates in five). A box
+//!   standing still before the cloth reaches it shows none of this, so every box gets its pool's
+//!   movable mass (the likelier draw), or, where the friction is not told, the mean of the two
+//!   pools' ([`assumed_mass`]).
+//! * **The cloth's mass** is the generator's areal mass (0.1 kg/m²), which the release does not
+//!   record.
+//! * **The handle** drags at the release's 3 units/s along +z for the distance the gripped row
+//!   travels in the video, holds still, and lets go at update 190.
+//!
+//! Input: a [`SeenHalf`] and a [`ClothModel`]. Output: a [`HalfRun`].
+
+use std::collections::BTreeSet;
+
+use crate::dataset::cloth::names::Shape;
+use crate::dataset::cloth::outcome::Pose;
+use crate::physics::vector3::{self as v3, Quaternion, Vector};
+use crate::physics::xpbd::{
+    BoxBody, Sheet, SheetProperties, SheetSpec, UpdateContacts, World, XpbdError, XpbdSettings,
+};
+
+/// The update the cloth spawns at (the release's timeline).
+pub const SPAWN_UPDATE: usize = 60;
+/// The update the handle lets go.
+pub const RELEASE_UPDATE: usize = 190;
+/// The update the end state is read at.
+pub const END_UPDATE: usize = 288;
+/// The handle's speed, units/s.
+pub const PULL_SPEED: f64 = 3.0;
+/// The cloth's mass per unit area, kg/m² (the generator's; the release does not record it).
+const CLOTH_AREAL_MASS: f64 = 0.1;
+/// The friction of the table, plates and pillars (the release's `HighFriction`), averaged with
+/// the cloth's as Unity and Obi combine frictions.
+const OBJECT_FRICTION: f64 = 4.0;
+/// The cloth's friction coefficient in the release's terms: low 0.5, high 4.
+const CLOTH_FRICTION: [f64; 2] = [0.5, 4.0];
+/// Particle radius per grid spacing.
+const RADIUS_PER_SPACING: f64 = 0.4;
+/// Particles along a side of the release's cloth, whose grid the max bending is set for.
+const VIDEO_RESOLUTION: usize = 31;
+
+/// Why a half could not be simulated.
+#[derive(Debug, thiserror::Error)]
+pub enum SimulationError {
+    /// The seen cloth is no cloth to spawn.
+    #[error("the cloth seen at the spawn {0}")]
+    Cloth(String),
+    /// The solver refused a box or a setting, or stopped being finite.
+    #[error(transparent)]
+    Solver(#[from] XpbdError),
+}
+
+/// The inference setting: the cloth's grid and the solver's steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClothModel {
+    /// Particles along a side of the simulated cloth (the video's cloth has 31).
+    pub resolution: usize,
+    /// Solver substeps per update.
+    pub substeps: usize,
+    /// Constraint iterations per substep.
+    pub iterations: usize,
+    /// The solver's friction per unit of the release's coefficient (the truth solver's
+    /// calibration, `synth::cloth::simulate::FRICTION_SCALE`).
+    pub friction_scale: f64,
+}
+
+impl Default for ClothModel {
+    fn default() -> Self {
+        ClothModel {
+            resolution: 31,
+            substeps: 10,
+            iterations: 2,
+            friction_scale: 0.5,
+        }
+    }
+}
+
+/// A pillar or plate as the video shows it before anything moves.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeenBox {
+    /// Its name (`Green Plate`).
+    pub name: String,
+    /// Pillar or plate.
+    pub shape: Shape,
+    /// Full extents along its local axes, units.
+    pub size: Vector,
+    /// Its centre, units.
+    pub position: Vector,
+    /// Its orientation.
+    pub orientation: Quaternion,
+    /// Its mass where it is known (a benchmark case built from the generator's records), kg;
+    /// `None` takes [`assumed_mass`].
+    pub mass: Option<f64>,
+}
+
+/// The cloth's friction class as the video tells it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionClass {
+    /// The release's `LowFriction` (0.5).
+    Low,
+    /// `HighFriction` (4).
+    High,
+}
+
+/// The cloth of a half as the video shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeenCloth {
+    /// Its particles at the spawn (a flat square grid), units.
+    pub spawn: Vec<Vector>,
+    /// Stretch compliance, m/N (0.011 or 0).
+    pub stretch_compliance: f64,
+    /// Max bending, units (0.013 or 0.035).
+    pub max_bending: f64,
+    /// Its friction class, if the video tells it.
+    pub friction: Option<FrictionClass>,
+    /// How far the handle drags it, units.
+    pub pull_distance: f64,
+}
+
+/// A half of the table as the video shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeenHalf {
+    /// Its pillars and plates.
+    pub boxes: Vec<SeenBox>,
+    /// Its cloth.
+    pub cloth: SeenCloth,
+}
+
+/// What a simulated half did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HalfRun {
+    /// Each box's end pose, in the order of [`SeenHalf::boxes`].
+    pub end_poses: Vec<Pose>,
+    /// Each box's centre and orientation at the end.
+    pub end_states: Vec<(Vector, Quaternion)>,
+    /// The pairs of boxes (indices, smaller first) that came into contact at some update.
+    pub collided: BTreeSet<(usize, usize)>,
+    /// The pairs in contact at the end.
+    pub touching: BTreeSet<(usize, usize)>,
+    /// The cloth's particles at the end.
+    pub cloth_end: Vec<Vector>,
+    /// Solver updates taken.
+    pub updates: usize,
+}
+
+/// The mass assumed for a box of `shape` under a cloth of friction `friction`, kg (see the
+/// module's doc).
+pub fn assumed_mass(shape: Shape, friction: Option<FrictionClass>) -> f64 {
+    let [low, high] = match shape {
+        Shape::Plate => [2.0, 4.0],
+        Shape::Pillar | Shape::Cube => [6.5, 12.0],
+    };
+    match friction {
+        Some(FrictionClass::Low) => low,
+        Some(FrictionClass::High) => high,
+        None => f64::midpoint(low, high),
+    }
+}
+
+/// The orientation of Unity Euler angles (degrees: turns about z, then x, then y).
+pub fn unity_rotation(euler_degrees: [f64; 3]) -> Quaternion {
+    let about = |axis: usize, degrees: f64| {
+        let half = degrees.to_radians() / 2.0;
+        let mut turn = [half.cos(), 0.0, 0.0, 0.0];
+        turn[axis + 1] = half.sin();
+        turn
+    };
+    let [x, y, z] = euler_degrees;
+    v3::quaternion_product(
+        v3::quaternion_product(about(1, y), about(0, x)),
+        about(2, z),
+    )
+}
+
+/// Simulates `half` under `model` to the release's end update.
+pub fn simulate_half(half: &SeenHalf, model: &ClothModel) -> Result<HalfRun, SimulationError> {
+    let cloth = &half.cloth;
+    if cloth.spawn.len() < 4 {
+        return Err(SimulationError::Cloth(format!(
+            "has {} particles",
+            cloth.spawn.len()
+        )));
+    }
+    if let Some(bad) = cloth
+        .spawn
+        .iter()
+        .position(|p| !p.iter().all(|v| v.is_finite()))
+    {
+        return Err(SimulationError::Cloth(format!(
+            "has a non-finite position (particle {bad})"
+        )));
+    }
+    let settings = XpbdSettings {
+        substeps: model.substeps,
+        iterations: model.iterations,
+        ..XpbdSettings::default()
+    };
+    let mut world = World::new(settings)?;
+    for seen in &half.boxes {
+        world.add_box(BoxBody::new(
+            v3::scale(seen.size, 0.5),
+            seen.mass
+                .unwrap_or_else(|| assumed_mass(seen.shape, half.cloth.friction)),
+            seen.position,
+            seen.orientation,
+        ))?;
+    }
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "a pull of about 5 units at 3 units/s is about 100 updates; clamped to the run"
+    )]
+    let pull_updates = (half.cloth.pull_distance.max(0.0) / PULL_SPEED * 60.0)
+        .round()
+        .min(1e6) as usize;
+    let mut collided = BTreeSet::new();
+    let mut last = UpdateContacts::default();
+    for update in 1..=END_UPDATE {
+        if update == SPAWN_UPDATE {
+            let mut sheet = spawn_sheet(&half.cloth, model);
+            sheet.grip_front_edge();
+            sheet.set_handle_velocity([0.0, 0.0, PULL_SPEED]);
+            world.add_sheet(sheet);
+        }
+        if let Some(sheet) = world.sheet_mut(0) {
+            if update == SPAWN_UPDATE + pull_updates {
+                sheet.set_handle_velocity([0.0; 3]);
+            }
+            if update == RELEASE_UPDATE {
+                sheet.release();
+            }
+        }
+        last = world.step()?;
+        collided.extend(last.box_pairs.iter().copied());
+    }
+    let (end_poses, end_states) = world
+        .boxes()
+        .iter()
+        .map(|body| {
+            let up = v3::apply(body.rotation(), [0.0, 1.0, 0.0]);
+            (Pose::from_up_axis(up), (body.position, body.orientation))
+        })
+        .unzip();
+    Ok(HalfRun {
+        end_poses,
+        end_states,
+        collided,
+        touching: last.box_pairs,
+        cloth_end: world
+            .sheets()
+            .first()
+            .map_or_else(Vec::new, |sheet| sheet.positions().to_vec()),
+        updates: END_UPDATE,
+    })
+}
+
+/// The cloth as it spawns, at the model's resolution over the seen cloth's extent.
+fn spawn_sheet(cloth: &SeenCloth, model: &ClothModel) -> Sheet {
+    let (mut low, mut high) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for point in &cloth.spawn {
+        for axis in 0..3 {
+            low[axis] = low[axis].min(point[axis]);
+            high[axis] = high[axis].max(point[axis]);
+        }
+    }
+    let side = f64::midpoint(high[0] - low[0], high[2] - low[2]);
+    let height = f64::midpoint(low[1], high[1]);
+    let resolution = model.resolution.max(2);
+    let spacing = side / (resolution - 1) as f64;
+    let friction = match cloth.friction {
+        Some(FrictionClass::Low) => CLOTH_FRICTION[0],
+        Some(FrictionClass::High) => CLOTH_FRICTION[1],
+        None => f64::midpoint(CLOTH_FRICTION[0], CLOTH_FRICTION[1]),
+    };
+    // A bend triplet's middle particle may leave the centroid by the max bending d, which on a
+    // grid of spacing h allows a curvature of 3d/h²: a coarser grid keeps the video cloth's
+    // curvature with d scaled by the square of the spacings' ratio.
+    let spacing_ratio = (VIDEO_RESOLUTION - 1) as f64 / (resolution - 1) as f64;
+    Sheet::new(&SheetSpec {
+        resolution,
+        side,
+        corner: [low[0], height, low[2]],
+        mass: CLOTH_AREAL_MASS * side * side,
+        particle_radius: RADIUS_PER_SPACING * spacing,
+        properties: SheetProperties {
+            stretch_compliance: cloth.stretch_compliance,
+            max_bending: cloth.max_bending * spacing_ratio * spacing_ratio,
+            friction: model.friction_scale * f64::midpoint(friction, OBJECT_FRICTION),
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::vector3::rotation_matrix;
+    use crate::synth::unity::unity_euler_degrees;
+
+    /// A flat 31 × 31 cloth of side 3 at `height`, its far edge at z = −3.4, over x ∈ [−1.5, 1.5].
+    fn spawn(height: f64) -> Vec<Vector> {
+        (0..31 * 31_u32)
+            .map(|k| {
+                let (column, row) = (f64::from(k % 31), f64::from(k / 31));
+                [-1.5 + 0.1 * column, height, -6.4 + 0.1 * row]
+            })
+            .collect()
+    }
+
+    fn upright(name: &str, shape: Shape, size: Vector, x: f64, z: f64) -> SeenBox {
+        SeenBox {
+            name: name.to_string(),
+            shape,
+            size,
+            position: [x, size[1] / 2.0, z],
+            orientation: [1.0, 0.0, 0.0, 0.0],
+            mass: None,
+        }
+    }
+
+    #[test]
+    fn unity_angles_turn_back_into_the_rotation_they_were_read_from() {
+        for euler in [[0.0, 17.0, 0.0], [20.0, 130.0, 300.0], [350.0, 5.0, 91.0]] {
+            let read = unity_euler_degrees(&rotation_matrix(unity_rotation(euler)));
+            for (found, expected) in read.iter().zip(euler) {
+                assert!(
+                    (found - expected).abs() < 1e-9,
+                    "{euler:?} read back as {read:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn assumed_masses_are_the_movable_masses_of_the_friction_s_pool() {
+        let masses = [
+            assumed_mass(Shape::Plate, Some(FrictionClass::Low)),
+            assumed_mass(Shape::Pillar, Some(FrictionClass::High)),
+            assumed_mass(Shape::Pillar, None),
+        ];
+        assert_eq!(
+            masses.map(f64::to_bits),
+            [2.0, 12.0, 9.25].map(f64::to_bits)
+        );
+    }
+
+    #[test]
+    fn stiff_and_extreme_halves_stay_finite_and_give_a_pose_for_every_box() {
+        // At the inference setting: a cloth that neither stretches nor bends, dragged 30 units
+        // (six times the release's pull, through the table's far side), over a light plate, a
+        // pillar leaning at 40° and a plate spawned into the cloth; then the stretchiest and
+        // floppiest cloth the release draws, not pulled at all.
+        let mut leaning = upright("Gray Pillar", Shape::Pillar, [0.5, 2.2, 0.5], -0.6, -1.0);
+        leaning.orientation = unity_rotation([40.0, 0.0, 0.0]);
+        leaning.position[1] = 1.0;
+        let mut inside = upright("Green Plate", Shape::Plate, [1.2, 1.8, 0.4], 0.6, -0.2);
+        inside.position[1] = 2.2;
+        let boxes = vec![
+            upright("Blue Plate", Shape::Plate, [1.0, 1.5, 0.35], 0.0, 0.3),
+            leaning,
+            inside,
+        ];
+        let cases = [
+            SeenCloth {
+                spawn: spawn(2.5),
+                stretch_compliance: 0.0,
+                max_bending: 0.0,
+                friction: Some(FrictionClass::High),
+                pull_distance: 30.0,
+            },
+            SeenCloth {
+                spawn: spawn(2.4),
+                stretch_compliance: 0.011,
+                max_bending: 0.035,
+                friction: None,
+                pull_distance: 0.0,
+            },
+        ];
+        for cloth in cases {
+            let half = SeenHalf {
+                boxes: boxes.clone(),
+                cloth,
+            };
+            let run = simulate_half(&half, &ClothModel::default()).unwrap();
+            assert_eq!(run.end_poses.len(), 3);
+            for (position, orientation) in &run.end_states {
+                assert!(position.iter().chain(orientation).all(|v| v.is_finite()));
+                // Nothing leaves the table's neighbourhood or sinks through it.
+                assert!(position[1] > -0.05 && position[1] < 5.0, "{position:?}");
+            }
+            assert!(
+                run.cloth_end
+                    .iter()
+                    .flatten()
+                    .all(|v| v.is_finite() && v.abs() < 100.0)
+            );
+        }
+    }
+
+    #[test]
+    fn a_cloth_that_is_not_finite_is_an_error_not_an_answer() {
+        let mut cloth_spawn = spawn(2.4);
+        cloth_spawn[100][1] = f64::NAN;
+        let half = SeenHalf {
+            boxes: vec![upright(
+                "Blue Plate",
+                Shape::Plate,
+                [1.0, 1.5, 0.35],
+                0.0,
+                0.3,
+            )],
+            cloth: SeenCloth {
+                spawn: cloth_spawn,
+                stretch_compliance: 0.0,
+                max_bending: 0.013,
+                friction: None,
+                pull_distance: 5.0,
+            },
+        };
+        let error = simulate_half(&half, &ClothModel::default()).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "the cloth seen at the spawn has a non-finite position (particle 100)"
+        );
+    }
+}
