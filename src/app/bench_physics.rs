@@ -156,6 +156,10 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
             {
                 Reduction::Largest => differences.fold(0.0_f64, f64::max),
                 Reduction::Mean => differences.sum::<f64>() / expected.len().max(1) as f64,
+                Reduction::Mismatch => {
+                    differences.filter(|difference| *difference > 1e-9).count() as f64
+                        / expected.len().max(1) as f64
+                }
                 Reduction::DecidedMean => {
                     let (sum, count) = got
                         .iter()
@@ -510,6 +514,35 @@ mod tests {
         let own = sweep_points(fluid, "fluid", &[]).unwrap();
         assert_eq!(own.len(), fluid.sweep.len());
         assert!(own.iter().any(|point| point.as_slice() == fluid.default));
+    }
+
+    #[test]
+    fn each_reduction_turns_differences_from_the_reference_into_its_error() {
+        let measure = |reduction| ErrorMeasure {
+            key: "measure",
+            reduction,
+            tolerance: None,
+            plotted: false,
+        };
+        let measures = [
+            measure(Reduction::Largest),
+            measure(Reduction::Mean),
+            measure(Reduction::Mismatch),
+            measure(Reduction::DecidedMean),
+        ];
+        // Codes 0, 3, 1, 4 against the reference's 0, 1, 1, 2: two of four differ, by 2 each.
+        let got = vec![vec![0.0, 3.0, 1.0, 4.0]; 3];
+        let reference = vec![vec![0.0, 1.0, 1.0, 2.0]; 3];
+        let mut measured = got;
+        measured.push(vec![0.5, 1.0, 0.0]);
+        let mut expected = reference;
+        expected.push(vec![1.0, 0.5, 1.0]);
+        // Decided: the labels the reference holds at 0 or 1 (the first and third), off by 0.5
+        // and 1.
+        assert_eq!(
+            errors(&measures, &measured, &expected),
+            vec![2.0, 1.0, 0.5, 0.75]
+        );
     }
 
     #[test]

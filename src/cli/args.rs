@@ -655,6 +655,9 @@ impl Cli {
                 emitter_shift,
                 cfl,
                 start_shift,
+                cloth_resolution,
+                substeps,
+                iterations,
                 videos,
             })) => Request::BenchPhysics(BenchPhysicsSettings {
                 scenario,
@@ -662,7 +665,7 @@ impl Cli {
                 sweep: physics_sweep(
                     steps,
                     grid_spacing,
-                    particles_per_cell,
+                    [particles_per_cell, cloth_resolution, substeps, iterations],
                     [emitter_shift, cfl, start_shift],
                 ),
                 videos,
@@ -731,16 +734,18 @@ impl Cli {
     }
 }
 
-/// The `bench physics` sweep options that were given, with their flags (`shifts_and_cfl`:
-/// `--emitter-shift`, `--cfl`, `--start-shift`).
+/// The `bench physics` sweep options that were given, with their flags (`counts`:
+/// `--particles-per-cell`, `--cloth-resolution`, `--substeps`, `--iterations`;
+/// `shifts_and_cfl`: `--emitter-shift`, `--cfl`, `--start-shift`).
 fn physics_sweep(
     steps: Option<Vec<f64>>,
     grid_spacing: Option<Vec<f64>>,
-    particles_per_cell: Option<Vec<u32>>,
+    counts: [Option<Vec<u32>>; 4],
     shifts_and_cfl: [Option<Vec<f64>>; 3],
 ) -> Vec<(&'static str, Vec<f64>)> {
     let [emitter_shift, cfl, start_shift] = shifts_and_cfl;
-    let per_cell = particles_per_cell.map(|counts| counts.into_iter().map(f64::from).collect());
+    let [per_cell, cloth_resolution, substeps, iterations] =
+        counts.map(|counts| counts.map(|counts| counts.into_iter().map(f64::from).collect()));
     [
         ("--dt", steps),
         ("--grid-spacing", grid_spacing),
@@ -748,6 +753,9 @@ fn physics_sweep(
         ("--emitter-shift", emitter_shift),
         ("--cfl", cfl),
         ("--start-shift", start_shift),
+        ("--cloth-resolution", cloth_resolution),
+        ("--substeps", substeps),
+        ("--iterations", iterations),
     ]
     .into_iter()
     .filter_map(|(flag, values)| values.map(|values| (flag, values)))

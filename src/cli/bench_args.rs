@@ -69,7 +69,17 @@ pub enum BenchCommand {
             allow_negative_numbers = true
         )]
         start_shift: Option<Vec<f64>>,
-        /// A video the cases are built from (repeatable; fluid, ball; default: the demo video).
+        /// Cloth grid resolutions (particles along a side) to sweep (comma-separated; cloth).
+        #[arg(long = "cloth-resolution", value_name = "N,...", value_delimiter = ',')]
+        cloth_resolution: Option<Vec<u32>>,
+        /// Solver substeps per update to sweep (comma-separated; cloth).
+        #[arg(long = "substeps", value_name = "N,...", value_delimiter = ',')]
+        substeps: Option<Vec<u32>>,
+        /// Constraint iterations per substep to sweep (comma-separated; cloth).
+        #[arg(long = "iterations", value_name = "N,...", value_delimiter = ',')]
+        iterations: Option<Vec<u32>>,
+        /// A video the cases are built from (repeatable; fluid, ball, cloth; default: the demo
+        /// video).
         #[arg(long = "video", value_name = "DIR")]
         videos: Vec<PathBuf>,
     },

@@ -110,6 +110,9 @@ pub enum Reduction {
     Largest,
     /// The mean absolute difference (of 0/1 labels: the share that differ).
     Mean,
+    /// The share of quantities unequal to the reference's: categories coded as numbers (a box's
+    /// end pose), where how far apart two codes are means nothing.
+    Mismatch,
     /// The mean absolute difference over the quantities the reference holds at exactly 0 or 1:
     /// of labels that are shares of an ensemble's runs, those every run of the reference's
     /// ensemble agrees on (none: 0).

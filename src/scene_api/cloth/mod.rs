@@ -39,6 +39,7 @@
 
 pub mod infer;
 mod inference_bench;
+pub(crate) mod physics_bench;
 mod runs;
 pub mod simulate;
 #[cfg(test)]
