@@ -4,8 +4,10 @@
 //!
 //! Input: a video's `outputs.json` ([`ClothAnnotation`]). Output: the scene's objects and the
 //! answers of `query`, `register_event`, `happen` and `final_pose` (`docs/data/cloth.md`).
-//! Cloth has no simulation backend and no perception model yet: under `--dynamics simulate` or
-//! `--perception maskrcnn` loading the scene fails with [`ApiError::Unavailable`] saying so.
+//! Cloth has no simulation backend and no scene reading from pixels yet (its detector,
+//! `perception::cloth`, finds the cloths, pillars and plates, but nothing reads a scene from its
+//! detections): under `--dynamics simulate` or `--perception maskrcnn` loading the scene fails
+//! with [`ApiError::Unavailable`] saying so.
 //!
 //! Objects, in this order: the two cloths (`Cloth (Left)`, `Cloth (Right)`: kind `cloth`, no
 //! colour, `side` left or right, so `left cloth`), then every pillar and plate of the left half
@@ -53,7 +55,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     // what the user must change, whatever the video holds.
     if spec.perception != PerceptionBackend::Annotation {
         return Err(ApiError::Unavailable(
-            "--perception maskrcnn: there is no perception for cloth scenes yet; cloth scenes are read from their annotations (--perception annotation)"
+            "--perception maskrcnn: cloth scenes are not read from pixels yet (the cloth detector finds cloths, pillars and plates, but no scene reading uses it); cloth scenes are read from their annotations (--perception annotation)"
                 .to_string(),
         ));
     }

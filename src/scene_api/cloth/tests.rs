@@ -300,7 +300,7 @@ fn backends_cloth_does_not_have_yet_say_so() {
     assert!(
         error
             .to_string()
-            .starts_with("--perception maskrcnn: there is no perception for cloth scenes yet"),
+            .starts_with("--perception maskrcnn: cloth scenes are not read from pixels yet"),
         "{error}"
     );
 }
