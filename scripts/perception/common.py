@@ -38,16 +38,25 @@ BALL_CLASSES = {
     4: "floor piece",
 }
 
+# The cloth model's classes (its own model, models/maskrcnn-cloth.onnx; same contract). Colour is
+# not a class (the cloth's colour is a random tint that no name carries), nor is a cloth's side.
+CLOTH_CLASSES = {
+    1: "cloth",
+    2: "pillar",
+    3: "plate",
+}
+
 # Per scenario: class table, number of classes with background, the data root's scenario folder.
 SCENARIOS = {
     "rope": {"classes": CLASSES, "num_classes": NUM_CLASSES, "folder": "pulley_group"},
     "fluid": {"classes": FLUID_CLASSES, "num_classes": len(FLUID_CLASSES) + 1, "folder": "fluid_slides"},
     "ball": {"classes": BALL_CLASSES, "num_classes": len(BALL_CLASSES) + 1, "folder": "soft_body"},
+    "cloth": {"classes": CLOTH_CLASSES, "num_classes": len(CLOTH_CLASSES) + 1, "folder": "cloth_collision"},
 }
 
 
 def scenario(name):
-    """The SCENARIOS entry of `name` (rope, fluid, ball)."""
+    """The SCENARIOS entry of `name` (rope, fluid, ball, cloth)."""
     if name not in SCENARIOS:
         raise SystemExit(f"unknown scenario {name!r} (known: {', '.join(SCENARIOS)})")
     return SCENARIOS[name]
@@ -145,6 +154,37 @@ def ball_groups(names):
         cls = ball_class_of_name(name)
         if cls == 0:
             unknown.append(name)
+            continue
+        lut[iid] = iid
+        classes[iid] = cls
+    return lut, classes, [], max(names, default=0) + 1, unknown
+
+
+def cloth_class_of_name(name):
+    """Class id of a cloth-scenario Id2ObjectNameDict name: "Cloth (Left)" / "Cloth (Right)" 1,
+    "<C> Pillar" 2, "<C> Plate" 3; 0 for anything else ("Table", a "<C> Cube" tower layer)."""
+    if name in ("Cloth (Left)", "Cloth (Right)"):
+        return 1
+    if name.endswith(" Pillar"):
+        return 2
+    if name.endswith(" Plate"):
+        return 3
+    return 0
+
+
+def cloth_groups(names):
+    """Generator instance ids -> target ids of a cloth video, in the shape of ball_groups: every
+    cloth, pillar and plate is its own instance (its generator id kept). The table and cubes (a
+    tower layer not merged into a pillar, practically never written) are background and not
+    reported; other names are background and reported as unknown."""
+    lut = np.zeros(256, np.uint8)
+    classes = np.zeros(256, np.int64)
+    unknown = []
+    for iid, name in names.items():
+        cls = cloth_class_of_name(name)
+        if cls == 0:
+            if name != "Table" and not name.endswith(" Cube"):
+                unknown.append(name)
             continue
         lut[iid] = iid
         classes[iid] = cls

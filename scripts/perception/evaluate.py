@@ -3,14 +3,15 @@
   python evaluate.py MODEL.onnx --heldout CACHE_DIR --real REAL_NPZ [--real-min-key 101] [--json OUT.json]
   python evaluate.py MODEL.onnx --scenario fluid --heldout CACHE_DIR [--heldout-mp4 CACHE_DIR] [--json OUT.json]
   python evaluate.py MODEL.onnx --scenario ball --heldout CACHE_DIR [--heldout-mp4 CACHE_DIR] [--json OUT.json]
+  python evaluate.py MODEL.onnx --scenario cloth --heldout CACHE_DIR [--heldout-mp4 CACHE_DIR] [--json OUT.json]
 
 AP: per class, detections of all images sorted by score, greedy matching to unmatched ground truth
 of the same class at IoU >= 0.5, all-point interpolated precision/recall area (VOC 2010+ style).
 Masks are pasted with torchvision's paste_masks_in_image (padding 1) and thresholded at 0.5.
 Ground truth: instances of the downscaled instance map with >= 6 pixels. Only detections above the
 model's baked-in score threshold exist, so recall is capped by it.
---scenario fluid (ball) scores the fluid (ball) classes; --heldout-mp4 is a cache of the same held-out videos
-with the RGB decoded from output_Full.mp4 (prep_data.py --rgb mp4), scored as heldout_generated_mp4.
+--scenario fluid (ball, cloth) scores the fluid (ball, cloth) classes; --heldout-mp4 is a cache of
+the same held-out videos with the RGB decoded from output_Full.mp4 (prep_data.py --rgb mp4), scored as heldout_generated_mp4.
 """
 import argparse
 import glob
@@ -130,8 +131,8 @@ def main():
     ap.add_argument("--real")
     ap.add_argument("--real-min-key", type=int, default=101)
     ap.add_argument("--json")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"])
-    ap.add_argument("--heldout-mp4", help="fluid, ball: the held-out videos with their RGB from the mp4")
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball", "cloth"])
+    ap.add_argument("--heldout-mp4", help="fluid, ball, cloth: the held-out videos with their RGB from the mp4")
     a = ap.parse_args()
     classes = scenario(a.scenario)["classes"]
     torch.set_num_threads(1)

@@ -1,7 +1,7 @@
 """Export a checkpoint to ONNX (legacy exporter, opset 17), raw 28x28 masks, baked-in thresholds.
 
   python export.py CKPT.pt OUT.onnx [--score-thresh 0.3] [--nms 0.5] [--detections 24] [--check REAL_NPZ]
-                   [--scenario fluid|ball]
+                   [--scenario fluid|ball|cloth]
 """
 import argparse
 
@@ -29,7 +29,7 @@ def main():
     ap.add_argument("--detections", type=int, default=24)
     ap.add_argument("--check", help="an .npz cache whose first image is the trace/compare input")
     ap.add_argument("--check-frame", type=int, default=0, help="the image of --check to use")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"],
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball", "cloth"],
                     help="the class table the checkpoint was trained with (train.py --scenario)")
     a = ap.parse_args()
     torch.set_num_threads(1)

@@ -3,12 +3,16 @@
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA [--score-thresh 0.3 --nms 0.5 --detections 24]
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario fluid --detections 64
   python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario ball
+  python make_meta.py CKPT.json EVAL.json MODEL.onnx OUT.json --videos DATA --scenario cloth --eval-randomized EVAL_RAND.json
 
 DATA is the directory holding the generated data roots the caches were made from (train-rand/,
 train-rel/): every training video is listed with the SHA-256 of its outputs.json, so a test can
 check that the real video is not among them. For fluid (models/maskrcnn-fluid.json) DATA holds
 fluid-train-rand/ and fluid-train-rel/ (caches named like their data roots), for ball
-(models/maskrcnn-ball.json) ball-train-rand/ and ball-train-rel/.
+(models/maskrcnn-ball.json) ball-train-rand/ and ball-train-rel/, for cloth
+(models/maskrcnn-cloth.json) cloth-train-rand/ and cloth-train-rel/. --eval-randomized adds
+evaluate.py's JSON of the same held-out scenes drawn with randomised appearance to the metrics
+(heldout_generated_randomized, heldout_generated_randomized_mp4).
 """
 import argparse
 import hashlib
@@ -42,6 +46,17 @@ BALL_GENERATE = [
     "--resolution 480x270 --jobs 1 --quiet",
     "contphy-eval generate --scenario ball --videos 8 --seed 3303 --out ball-heldout3303 --frames both "
     "--resolution 480x270 --jobs 1 --quiet",
+]
+
+CLOTH_GENERATE = [
+    "contphy-eval generate --scenario cloth --videos 24 --seed 3401 --out cloth-train-rand --frames both "
+    "--resolution 480x270 --jobs 1 --quiet --appearance randomized",
+    "contphy-eval generate --scenario cloth --videos 12 --seed 3402 --out cloth-train-rel --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+    "contphy-eval generate --scenario cloth --videos 8 --seed 3403 --out cloth-heldout3403 --frames both "
+    "--resolution 480x270 --jobs 1 --quiet",
+    "contphy-eval generate --scenario cloth --videos 8 --seed 3403 --out cloth-heldout3403-rand --frames both "
+    "--resolution 480x270 --jobs 1 --quiet --appearance randomized",
 ]
 
 # The scenario-specific sentences of the description (rope: those of models/maskrcnn-rope.json).
@@ -92,6 +107,23 @@ TEXT = {
                        "6 pixels dropped (a ball in a pit)",
         "held_out": "ball-heldout3303 (seed 3303, 8 videos): evaluation only (metrics; every 10th frame, RGB from "
                     "the PNG and, as heldout_generated_mp4, from the mp4); the test seeds (2026, 100) are never used",
+    },
+    "cloth": {
+        "generate": CLOTH_GENERATE,
+        "randomised": "shadows, noise and blur",
+        "mix": "cloth-train-rand (randomised appearance) and cloth-train-rel (the release's look), the whole "
+               "480x270 frame (every 5th frame), sampled uniformly by frame",
+        "frames_note": "every 5th frame of each video (offset video_id % 5), 480x270 as generated; RGB from the "
+                       "PNG on even cached frames and from output_Full.mp4 (ffmpeg, rgb24, -fps_mode passthrough) "
+                       "on odd ones, so that half the frames carry the compression of the evaluated videos; masks "
+                       "from the exact PNG segmentation colours, each object its own instance: Cloth (Left) and "
+                       "Cloth (Right) a cloth, <C> Pillar a pillar, <C> Plate a plate; the table (and a <C> Cube, "
+                       "practically never written) is background, the room behind is not segmented; instances "
+                       "under 6 pixels dropped (a box hidden under a cloth)",
+        "held_out": "cloth-heldout3403 (seed 3403, 8 videos): evaluation only (metrics; every 10th frame, RGB from "
+                    "the PNG and, as heldout_generated_mp4, from the mp4), and the same 8 scenes with randomised "
+                    "appearance, cloth-heldout3403-rand (heldout_generated_randomized, "
+                    "heldout_generated_randomized_mp4); the test seeds (2026, 7070) are never used",
     },
 }
 
@@ -166,12 +198,18 @@ def main():
     ap.add_argument("--init-generate", action="append", default=[],
                     help="the generate commands of the pretraining data (repeatable)")
     ap.add_argument("--loss-csv", help="train.py's loss.csv: final losses = mean of its last 10 rows")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"])
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball", "cloth"])
+    ap.add_argument("--eval-randomized", help="evaluate.py's JSON of the held-out scenes with randomised appearance")
     a = ap.parse_args()
     sc = scenario(a.scenario)
     classes, text = sc["classes"], TEXT[a.scenario]
     ck = json.load(open(a.ckpt_json))
     ev = json.load(open(a.eval_json))
+    if a.eval_randomized:
+        rand = json.load(open(a.eval_randomized))
+        for name in ("heldout_generated", "heldout_generated_mp4"):
+            if name in rand:
+                ev[name.replace("heldout_generated", "heldout_generated_randomized")] = rand[name]
     args = ck["args"]
     final = ck["last_losses"]
     if a.loss_csv:

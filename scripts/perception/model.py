@@ -18,7 +18,7 @@ from common import NUM_CLASSES
 
 def model_config(num_classes=NUM_CLASSES):
     """The architecture description (checkpoint metadata, the model's .json) for `num_classes`
-    classes including background (rope 9, fluid 5)."""
+    classes including background (rope 9, fluid 5, ball 5, cloth 4)."""
     return {
         "backbone": "mobilenet_v3_small features (BatchNorm2d, from scratch), FPN on strides 8/16/32 + maxpool 64",
         "return_layers": {"3": "0", "8": "1", "12": "2"},

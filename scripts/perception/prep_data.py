@@ -4,6 +4,7 @@
   python prep_data.py real SAMPLE_VIDEO_DIR OUT_FILE
   python prep_data.py generated DATA_ROOT OUT_DIR --scenario fluid --every 5 [--rgb png|mp4|alternate]
   python prep_data.py generated DATA_ROOT OUT_DIR --scenario ball --every 5 [--rgb png|mp4|alternate]
+  python prep_data.py generated DATA_ROOT OUT_DIR --scenario cloth --every 5 [--rgb png|mp4|alternate]
 
 Cache: imgs [F,270,480,3] uint8, inst [F,270,480] uint8 (instance ids), keys [F] (annotation keys),
 classes [256] int64 (instance id -> class id, 0 = ignore).
@@ -20,6 +21,10 @@ in the cache); masks always come from the exact PNG segmentation.
 Ball (--scenario ball): the fluid path without groups or components: every ball, floating wall,
 ramp and floor piece is its own instance (its generator id kept; common.ball_groups); the
 stadium behind them is not segmented (background). --rgb as for fluid.
+
+Cloth (--scenario cloth): as ball: every cloth, pillar and plate is its own instance (its
+generator id kept; common.cloth_groups); the table (and a cube, which the generator practically
+never writes) is background, the room behind is not segmented. --rgb as for fluid.
 """
 import argparse
 import glob
@@ -28,8 +33,8 @@ import os
 import numpy as np
 from PIL import Image
 
-from common import (IN_H, IN_W, ball_groups, box_average, class_of_name, decode_video, downscale_instance_map,
-                    fluid_groups, frame_record, load_annotations, scenario, seg_to_instances,
+from common import (IN_H, IN_W, ball_groups, box_average, class_of_name, cloth_groups, decode_video,
+                    downscale_instance_map, fluid_groups, frame_record, load_annotations, scenario, seg_to_instances,
                     split_components)
 
 
@@ -134,7 +139,8 @@ def mp4_rgb(vd, shape, n, pngs):
 
 def prep_fluid(root, out, every, rgb_from="png", folder="fluid_slides", join=1, groups=fluid_groups):
     """Caches of generated fluid videos (see the module doc); no real-video part. With
-    groups=ball_groups and folder soft_body, of ball videos (no fluid, so nothing is split)."""
+    groups=ball_groups and folder soft_body, of ball videos, with groups=cloth_groups and folder
+    cloth_collision, of cloth videos (no fluid, so nothing is split)."""
     os.makedirs(out, exist_ok=True)
     vids = sorted((p for p in glob.glob(os.path.join(root, folder, "*")) if os.path.basename(p).isdigit()),
                   key=lambda p: int(os.path.basename(p)))
@@ -230,9 +236,9 @@ if __name__ == "__main__":
     ap.add_argument("mode", choices=["generated", "real"])
     ap.add_argument("src")
     ap.add_argument("out")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"])
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball", "cloth"])
     ap.add_argument("--rgb", default="png", choices=["png", "mp4", "alternate"],
-                    help="fluid, ball: where the RGB comes from (the masks always come from the PNG segmentation)")
+                    help="fluid, ball, cloth: where the RGB comes from (the masks always come from the PNG segmentation)")
     ap.add_argument("--every", type=int, default=3)
     ap.add_argument("--fluid-join", type=int, default=1,
                     help="fluid: drops within 2*J pixels are one instance; J > 1 also fills the gaps between "
@@ -249,8 +255,12 @@ if __name__ == "__main__":
         if a.mode != "generated" or a.zoom or a.fluid_join != 1:
             raise SystemExit("ball: generated videos only, without --zoom or --fluid-join")
         prep_fluid(a.src, a.out, a.every, a.rgb, scenario("ball")["folder"], groups=ball_groups)
+    elif a.scenario == "cloth":
+        if a.mode != "generated" or a.zoom or a.fluid_join != 1:
+            raise SystemExit("cloth: generated videos only, without --zoom or --fluid-join")
+        prep_fluid(a.src, a.out, a.every, a.rgb, scenario("cloth")["folder"], groups=cloth_groups)
     elif a.rgb != "png":
-        raise SystemExit("--rgb: fluid and ball only")
+        raise SystemExit("--rgb: fluid, ball and cloth only")
     elif a.mode == "generated":
         prep_generated(a.src, a.out, a.every, a.zoom)
     else:

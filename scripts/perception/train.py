@@ -8,7 +8,8 @@ Augmentation (the camera and the sensor, beyond what the generator randomises): 
 scale x U(0.8, 1.25) with a random shift (the release camera re-frames each scene), brightness,
 contrast and saturation. Hue is never changed: colour names are labels.
 --scenario fluid trains the fluid model (classes common.FLUID_CLASSES) on fluid caches, --scenario
-ball the ball model (common.BALL_CLASSES) on ball caches.
+ball the ball model (common.BALL_CLASSES) on ball caches, --scenario cloth the cloth model
+(common.CLOTH_CLASSES) on cloth caches.
 """
 import argparse
 import csv
@@ -131,7 +132,7 @@ def make_sample(item, rng, scale=(0.8, 1.25), texture=0.0):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cache", required=True, action="append")
-    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball"],
+    ap.add_argument("--scenario", default="rope", choices=["rope", "fluid", "ball", "cloth"],
                     help="the class table (and so the number of classes) of the model")
     ap.add_argument("--out", required=True)
     ap.add_argument("--minutes", type=float, default=50)

@@ -28,6 +28,7 @@ pub mod ball;
 pub mod camera;
 pub mod classes;
 pub mod closer;
+pub mod cloth;
 pub mod color;
 pub mod detection;
 pub mod detector;

@@ -119,6 +119,7 @@ static TABLE: [ScenarioParts; 4] = [
         synth: Some(&synth::cloth::CLOTH_SYNTH),
         writer: Some(&builtin::cloth::WRITER),
         scene: Some(scene_api::cloth::load),
+        perception: Some(&perception::cloth::PERCEPTION),
         inference_bench: Some(scene_api::cloth::inference_report),
         physics_bench: Some(&scene_api::cloth::physics_bench::BENCH),
         ..ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY)

@@ -750,3 +750,47 @@ fn the_ball_detector_learnt_from_its_training_seeds_only() {
         .collect();
     assert_eq!(classes, ["ball", "floating wall", "ramp", "floor piece"]);
 }
+
+#[test]
+fn the_cloth_models_learnt_from_their_training_seeds_only() {
+    // The cloth detector and colour model list the generated videos they learnt from: every one
+    // from the two training seeds' folders (3401 randomised, 3402 the release's look), never the
+    // held-out seed's (3403) or the test seeds' (2026, 7070), and none is a demo video or the
+    // test fixture (by their outputs.json hashes).
+    let root = crate::support::root();
+    let excluded: Vec<String> = [
+        "eval/demo/cloth_collision/0",
+        "eval/demo/cloth_collision/1",
+        "tests/data/cloth_collision/0",
+    ]
+    .iter()
+    .map(|dir| sha256_hex(&root.join(dir).join("outputs.json")))
+    .collect();
+    let read = |name: &str| -> serde_json::Value {
+        serde_json::from_slice(&fs_err::read(root.join("models").join(name)).unwrap()).unwrap()
+    };
+    let detector = read("maskrcnn-cloth.json");
+    let colors = read("color-model-cloth.json");
+    for (model, listed) in [
+        ("maskrcnn-cloth.json", &detector["data"]["training_videos"]),
+        ("color-model-cloth.json", &colors["training_videos"]),
+    ] {
+        let count = assert_training_videos(
+            model,
+            listed,
+            &[
+                "cloth-train-rand/cloth_collision/",
+                "cloth-train-rel/cloth_collision/",
+            ],
+            &excluded,
+        );
+        assert_eq!(count, 36, "{model}");
+    }
+    let classes: Vec<&str> = detector["classes"]
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|name| name.as_str())
+        .collect();
+    assert_eq!(classes, ["cloth", "pillar", "plate"]);
+}

@@ -9,8 +9,9 @@
 //! simulate` the cloths' properties are read from their particles ([`infer`]) and each half is
 //! simulated ([`simulate`]) on the first question about one of its boxes (`runs`); of the
 //! annotation only the boxes' sizes, shapes and start poses are read (what the first frames
-//! show). Cloth has no perception model yet: under `--perception maskrcnn` loading the scene
-//! fails with [`ApiError::Unavailable`] saying so.
+//! show). Cloth has no scene reading from pixels yet (its detector, `perception::cloth`, finds
+//! the cloths, pillars and plates, but nothing reads a scene from its detections): under
+//! `--perception maskrcnn` loading the scene fails with [`ApiError::Unavailable`] saying so.
 //!
 //! Objects, in this order: the two cloths (`Cloth (Left)`, `Cloth (Right)`: kind `cloth`, no
 //! colour, `side` left or right, so `left cloth`), then every pillar and plate of the left half
@@ -69,7 +70,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     // what the user must change, whatever the video holds.
     if spec.perception != PerceptionBackend::Annotation {
         return Err(ApiError::Unavailable(
-            "--perception maskrcnn: there is no perception for cloth scenes yet; cloth scenes are read from their annotations (--perception annotation)"
+            "--perception maskrcnn: cloth scenes are not read from pixels yet (the cloth detector finds cloths, pillars and plates, but no scene reading uses it); cloth scenes are read from their annotations (--perception annotation)"
                 .to_string(),
         ));
     }

@@ -291,7 +291,7 @@ fn perception_cloth_does_not_have_yet_says_so_and_simulate_needs_the_tracked_par
     assert!(
         error
             .to_string()
-            .starts_with("--perception maskrcnn: there is no perception for cloth scenes yet"),
+            .starts_with("--perception maskrcnn: cloth scenes are not read from pixels yet"),
         "{error}"
     );
     // The hand-written fixture has no outputs4D.json: the objects come from the annotation, and
