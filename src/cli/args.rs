@@ -655,7 +655,7 @@ impl Cli {
                 emitter_shift,
                 cfl,
                 start_shift,
-                cloth_resolution,
+                sheet_resolution,
                 substeps,
                 iterations,
                 videos,
@@ -665,7 +665,7 @@ impl Cli {
                 sweep: physics_sweep(
                     steps,
                     grid_spacing,
-                    [particles_per_cell, cloth_resolution, substeps, iterations],
+                    [particles_per_cell, sheet_resolution, substeps, iterations],
                     [emitter_shift, cfl, start_shift],
                 ),
                 videos,
@@ -735,7 +735,7 @@ impl Cli {
 }
 
 /// The `bench physics` sweep options that were given, with their flags (`counts`:
-/// `--particles-per-cell`, `--cloth-resolution`, `--substeps`, `--iterations`;
+/// `--particles-per-cell`, `--sheet-resolution`, `--substeps`, `--iterations`;
 /// `shifts_and_cfl`: `--emitter-shift`, `--cfl`, `--start-shift`).
 fn physics_sweep(
     steps: Option<Vec<f64>>,
@@ -744,7 +744,7 @@ fn physics_sweep(
     shifts_and_cfl: [Option<Vec<f64>>; 3],
 ) -> Vec<(&'static str, Vec<f64>)> {
     let [emitter_shift, cfl, start_shift] = shifts_and_cfl;
-    let [per_cell, cloth_resolution, substeps, iterations] =
+    let [per_cell, sheet_resolution, substeps, iterations] =
         counts.map(|counts| counts.map(|counts| counts.into_iter().map(f64::from).collect()));
     [
         ("--dt", steps),
@@ -753,7 +753,7 @@ fn physics_sweep(
         ("--emitter-shift", emitter_shift),
         ("--cfl", cfl),
         ("--start-shift", start_shift),
-        ("--cloth-resolution", cloth_resolution),
+        ("--sheet-resolution", sheet_resolution),
         ("--substeps", substeps),
         ("--iterations", iterations),
     ]

@@ -70,8 +70,8 @@ pub enum BenchCommand {
         )]
         start_shift: Option<Vec<f64>>,
         /// Cloth grid resolutions (particles along a side) to sweep (comma-separated; cloth).
-        #[arg(long = "cloth-resolution", value_name = "N,...", value_delimiter = ',')]
-        cloth_resolution: Option<Vec<u32>>,
+        #[arg(long = "sheet-resolution", value_name = "N,...", value_delimiter = ',')]
+        sheet_resolution: Option<Vec<u32>>,
         /// Solver substeps per update to sweep (comma-separated; cloth).
         #[arg(long = "substeps", value_name = "N,...", value_delimiter = ',')]
         substeps: Option<Vec<u32>>,

@@ -40,8 +40,8 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     duration: 288.0 / 60.0,
     parameters: &[
         Parameter {
-            key: "cloth_resolution",
-            flag: "--cloth-resolution",
+            key: "sheet_resolution",
+            flag: "--sheet-resolution",
             label: "n",
         },
         Parameter {
