@@ -597,11 +597,8 @@ fn no_real_frame_is_in_any_training_set() {
     if sample.is_file() {
         real.push(sha256_hex(&sample));
     }
-    let read = |file: &str| -> serde_json::Value {
-        serde_json::from_slice(&fs_err::read(root.join("models").join(file)).unwrap()).unwrap()
-    };
-    let detector = read("maskrcnn-rope.json");
-    let colors = read("color-model.json");
+    let detector = model_json("maskrcnn-rope.json");
+    let colors = model_json("color-model.json");
     for (model, listed) in [
         ("maskrcnn-rope.json", &detector["data"]["training_videos"]),
         ("color-model.json", &colors["training_videos"]),
@@ -666,29 +663,39 @@ fn assert_training_videos(
     listed.len()
 }
 
+/// A committed model description (`models/<file>`).
+fn model_json(file: &str) -> serde_json::Value {
+    let path = crate::support::root().join("models").join(file);
+    serde_json::from_slice(&fs_err::read(path).unwrap()).unwrap()
+}
+
+/// A detector description's class names, in label order.
+fn class_names(detector: &serde_json::Value) -> Vec<&str> {
+    detector["classes"]
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|name| name.as_str())
+        .collect()
+}
+
+/// The SHA-256 of the `outputs.json` of each video folder (relative to the repository).
+fn outputs_hashes(dirs: &[&str]) -> Vec<String> {
+    let root = crate::support::root();
+    dirs.iter()
+        .map(|dir| sha256_hex(&root.join(dir).join("outputs.json")))
+        .collect()
+}
+
 #[test]
 fn the_fluid_models_learnt_from_their_training_seeds_only() {
     // The fluid detector and colour model list the generated videos they learnt from; every
     // one is from the two training seeds' folders (3201 randomised, 3202 the release's look),
     // never from the tuning seed's (fluid-tune11, the held-out figures) or the test seed's
     // (fluid100), and none is a demo video (eval/demo/fluid_slides, by its outputs.json hash).
-    let root = crate::support::root();
-    let demo: Vec<String> = ["0", "1"]
-        .iter()
-        .map(|id| {
-            sha256_hex(
-                &root
-                    .join("eval/demo/fluid_slides")
-                    .join(id)
-                    .join("outputs.json"),
-            )
-        })
-        .collect();
-    let read = |file: &str| -> serde_json::Value {
-        serde_json::from_slice(&fs_err::read(root.join("models").join(file)).unwrap()).unwrap()
-    };
-    let detector = read("maskrcnn-fluid.json");
-    let colors = read("color-model-fluid.json");
+    let demo = outputs_hashes(&["eval/demo/fluid_slides/0", "eval/demo/fluid_slides/1"]);
+    let detector = model_json("maskrcnn-fluid.json");
+    let colors = model_json("color-model-fluid.json");
     for (model, listed, least) in [
         (
             "maskrcnn-fluid.json",
@@ -708,13 +715,10 @@ fn the_fluid_models_learnt_from_their_training_seeds_only() {
         );
         assert!(count >= least, "{model}: {count} training videos");
     }
-    let classes: Vec<&str> = detector["classes"]
-        .as_object()
-        .unwrap()
-        .values()
-        .filter_map(|name| name.as_str())
-        .collect();
-    assert_eq!(classes, ["stick", "container", "emitter", "fluid"]);
+    assert_eq!(
+        class_names(&detector),
+        ["stick", "container", "emitter", "fluid"]
+    );
 }
 
 #[test]
@@ -723,18 +727,12 @@ fn the_ball_detector_learnt_from_its_training_seeds_only() {
     // training seeds' folders (3301 randomised, 3302 the release's look), never the held-out
     // seed's (3303), the tuning seed's (11) or the test seed's (2026), and none is a demo video
     // or the hand-written fixture (by their outputs.json hashes).
-    let root = crate::support::root();
-    let excluded: Vec<String> = [
+    let excluded = outputs_hashes(&[
         "eval/demo/soft_body/0",
         "eval/demo/soft_body/1",
         "tests/data/soft_body/0",
-    ]
-    .iter()
-    .map(|dir| sha256_hex(&root.join(dir).join("outputs.json")))
-    .collect();
-    let detector: serde_json::Value =
-        serde_json::from_slice(&fs_err::read(root.join("models/maskrcnn-ball.json")).unwrap())
-            .unwrap();
+    ]);
+    let detector = model_json("maskrcnn-ball.json");
     let count = assert_training_videos(
         "maskrcnn-ball.json",
         &detector["data"]["training_videos"],
@@ -742,13 +740,10 @@ fn the_ball_detector_learnt_from_its_training_seeds_only() {
         &excluded,
     );
     assert_eq!(count, 36);
-    let classes: Vec<&str> = detector["classes"]
-        .as_object()
-        .unwrap()
-        .values()
-        .filter_map(|name| name.as_str())
-        .collect();
-    assert_eq!(classes, ["ball", "floating wall", "ramp", "floor piece"]);
+    assert_eq!(
+        class_names(&detector),
+        ["ball", "floating wall", "ramp", "floor piece"]
+    );
 }
 
 #[test]
@@ -757,20 +752,13 @@ fn the_cloth_models_learnt_from_their_training_seeds_only() {
     // from the two training seeds' folders (3401 randomised, 3402 the release's look), never the
     // held-out seed's (3403) or the test seeds' (2026, 7070), and none is a demo video or the
     // test fixture (by their outputs.json hashes).
-    let root = crate::support::root();
-    let excluded: Vec<String> = [
+    let excluded = outputs_hashes(&[
         "eval/demo/cloth_collision/0",
         "eval/demo/cloth_collision/1",
         "tests/data/cloth_collision/0",
-    ]
-    .iter()
-    .map(|dir| sha256_hex(&root.join(dir).join("outputs.json")))
-    .collect();
-    let read = |name: &str| -> serde_json::Value {
-        serde_json::from_slice(&fs_err::read(root.join("models").join(name)).unwrap()).unwrap()
-    };
-    let detector = read("maskrcnn-cloth.json");
-    let colors = read("color-model-cloth.json");
+    ]);
+    let detector = model_json("maskrcnn-cloth.json");
+    let colors = model_json("color-model-cloth.json");
     for (model, listed) in [
         ("maskrcnn-cloth.json", &detector["data"]["training_videos"]),
         ("color-model-cloth.json", &colors["training_videos"]),
@@ -786,11 +774,5 @@ fn the_cloth_models_learnt_from_their_training_seeds_only() {
         );
         assert_eq!(count, 36, "{model}");
     }
-    let classes: Vec<&str> = detector["classes"]
-        .as_object()
-        .unwrap()
-        .values()
-        .filter_map(|name| name.as_str())
-        .collect();
-    assert_eq!(classes, ["cloth", "pillar", "plate"]);
+    assert_eq!(class_names(&detector), ["cloth", "pillar", "plate"]);
 }

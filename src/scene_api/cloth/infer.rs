@@ -264,7 +264,7 @@ fn table_fraction(frames: &[Vec<[f64; 3]>]) -> f64 {
 
 /// The side of a square grid of `count` particles, if it is one of at least 3 × 3.
 fn grid_side(count: usize) -> Option<usize> {
-    let side = (1..=count).take_while(|n| n * n <= count).last()?;
+    let side = count.isqrt();
     (side * side == count && side >= 3).then_some(side)
 }
 

@@ -20,12 +20,10 @@
 
 use std::path::PathBuf;
 
-use super::simulate::{
-    ClothModel, FrictionClass, SeenBox, SeenCloth, SeenHalf, simulate_half, unity_rotation,
-};
+use super::simulate::{ClothModel, SeenBox, SeenCloth, SeenHalf, simulate_half};
+use crate::dataset::cloth::ClothAnnotation;
 use crate::dataset::cloth::names::Side;
 use crate::dataset::cloth::outcome::Pose;
-use crate::dataset::cloth::{ClothAnnotation, Friction};
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
     video_name,
@@ -124,14 +122,7 @@ fn release_half(annotation: &ClothAnnotation, side: Side) -> SeenHalf {
     let boxes = annotation
         .objects(side)
         .boxes()
-        .map(|record| SeenBox {
-            name: record.name.clone(),
-            shape: record.shape,
-            size: record.scale,
-            position: record.start_position,
-            orientation: unity_rotation(record.start_rotation),
-            mass: Some(record.mass),
-        })
+        .map(|record| SeenBox::from_record(record, Some(record.mass)))
         .collect();
     let centre = match side {
         Side::Left => HALF_CENTRES[0],
@@ -155,10 +146,7 @@ fn release_half(annotation: &ClothAnnotation, side: Side) -> SeenHalf {
             spawn,
             stretch_compliance: cloth.stretching_compliance,
             max_bending: cloth.bending_compliance,
-            friction: Some(match cloth.friction {
-                Friction::Low => FrictionClass::Low,
-                Friction::High => FrictionClass::High,
-            }),
+            friction: Some(cloth.friction),
             pull_distance: PULL,
         },
     }

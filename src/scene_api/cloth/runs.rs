@@ -11,12 +11,10 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use super::infer::{ClothReading, ClothVerdict, read_cloths};
-use super::simulate::{
-    ClothModel, FrictionClass, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half, unity_rotation,
-};
+use super::simulate::{ClothModel, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half};
 use crate::dataset::FourDData;
 use crate::dataset::cloth::names::Side;
-use crate::dataset::cloth::{ClothAnnotation, VALUES};
+use crate::dataset::cloth::{ClothAnnotation, Friction, VALUES};
 use crate::scene_api::ApiError;
 
 /// What the video shows of the two cloths.
@@ -113,14 +111,7 @@ pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Obs
     let boxes = annotation
         .objects(side)
         .boxes()
-        .map(|record| SeenBox {
-            name: record.name.clone(),
-            shape: record.shape,
-            size: record.scale,
-            position: record.start_position,
-            orientation: unity_rotation(record.start_rotation),
-            mass: None,
-        })
+        .map(|record| SeenBox::from_record(record, None))
         .collect();
     let reading = match side {
         Side::Left => &observed.readings[0],
@@ -139,9 +130,9 @@ pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Obs
             max_bending: pick(observed.verdict.bends, VALUES.max_bending),
             friction: observed.verdict.friction_guess.map(|high| {
                 if high == side {
-                    FrictionClass::High
+                    Friction::High
                 } else {
-                    FrictionClass::Low
+                    Friction::Low
                 }
             }),
             pull_distance: reading.pull_distance,

@@ -27,30 +27,17 @@ use std::collections::BTreeSet;
 
 use crate::dataset::cloth::names::Shape;
 use crate::dataset::cloth::outcome::Pose;
+use crate::dataset::cloth::{BoxRecord, Friction, VALUES};
 use crate::physics::vector3::{self as v3, Quaternion, Vector};
 use crate::physics::xpbd::{
     BoxBody, Sheet, SheetProperties, SheetSpec, UpdateContacts, World, XpbdError, XpbdSettings,
 };
-
-/// The update the cloth spawns at (the release's timeline).
-pub const SPAWN_UPDATE: usize = 60;
-/// The update the handle lets go.
-pub const RELEASE_UPDATE: usize = 190;
-/// The update the end state is read at.
-pub const END_UPDATE: usize = 288;
-/// The handle's speed, units/s.
-pub const PULL_SPEED: f64 = 3.0;
-/// The cloth's mass per unit area, kg/m² (the generator's; the release does not record it).
-const CLOTH_AREAL_MASS: f64 = 0.1;
-/// The friction of the table, plates and pillars (the release's `HighFriction`), averaged with
-/// the cloth's as Unity and Obi combine frictions.
-const OBJECT_FRICTION: f64 = 4.0;
-/// The cloth's friction coefficient in the release's terms: low 0.5, high 4.
-const CLOTH_FRICTION: [f64; 2] = [0.5, 4.0];
-/// Particle radius per grid spacing.
-const RADIUS_PER_SPACING: f64 = 0.4;
-/// Particles along a side of the release's cloth, whose grid the max bending is set for.
-const VIDEO_RESOLUTION: usize = 31;
+// The release's timeline and the generator's cloth: facts of the scene, not of the model.
+use crate::synth::cloth::layout::{CLOTH_RESOLUTION, mass_pools};
+use crate::synth::cloth::simulate::{
+    CLOTH_AREAL_MASS, END_UPDATE, FRICTION_SCALE, OBJECT_FRICTION, PULL_SPEED, RADIUS_PER_SPACING,
+    RELEASE_UPDATE, SPAWN_UPDATE,
+};
 
 /// Why a half could not be simulated.
 #[derive(Debug, thiserror::Error)]
@@ -73,7 +60,7 @@ pub struct ClothModel {
     /// Constraint iterations per substep.
     pub iterations: usize,
     /// The solver's friction per unit of the release's coefficient (the truth solver's
-    /// calibration, `synth::cloth::simulate::FRICTION_SCALE`).
+    /// calibration, [`FRICTION_SCALE`]).
     pub friction_scale: f64,
 }
 
@@ -83,7 +70,7 @@ impl Default for ClothModel {
             resolution: 31,
             substeps: 10,
             iterations: 2,
-            friction_scale: 0.5,
+            friction_scale: FRICTION_SCALE,
         }
     }
 }
@@ -106,13 +93,18 @@ pub struct SeenBox {
     pub mass: Option<f64>,
 }
 
-/// The cloth's friction class as the video tells it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FrictionClass {
-    /// The release's `LowFriction` (0.5).
-    Low,
-    /// `HighFriction` (4).
-    High,
+impl SeenBox {
+    /// The box of `record` where it starts, of `mass` where it is known.
+    pub fn from_record(record: &BoxRecord, mass: Option<f64>) -> SeenBox {
+        SeenBox {
+            name: record.name.clone(),
+            shape: record.shape,
+            size: record.scale,
+            position: record.start_position,
+            orientation: unity_rotation(record.start_rotation),
+            mass,
+        }
+    }
 }
 
 /// The cloth of a half as the video shows it.
@@ -125,7 +117,7 @@ pub struct SeenCloth {
     /// Max bending, units (0.013 or 0.035).
     pub max_bending: f64,
     /// Its friction class, if the video tells it.
-    pub friction: Option<FrictionClass>,
+    pub friction: Option<Friction>,
     /// How far the handle drags it, units.
     pub pull_distance: f64,
 }
@@ -157,16 +149,20 @@ pub struct HalfRun {
 }
 
 /// The mass assumed for a box of `shape` under a cloth of friction `friction`, kg (see the
-/// module's doc).
-pub fn assumed_mass(shape: Shape, friction: Option<FrictionClass>) -> f64 {
-    let [low, high] = match shape {
-        Shape::Plate => [2.0, 4.0],
-        Shape::Pillar | Shape::Cube => [6.5, 12.0],
+/// module's doc): the lightest of its pool.
+pub fn assumed_mass(shape: Shape, friction: Option<Friction>) -> f64 {
+    let movable = |friction: Friction| {
+        let (plates, pillars) = mass_pools(friction);
+        let pool = if shape == Shape::Plate {
+            plates
+        } else {
+            pillars
+        };
+        pool.iter().copied().fold(f64::INFINITY, f64::min)
     };
     match friction {
-        Some(FrictionClass::Low) => low,
-        Some(FrictionClass::High) => high,
-        None => f64::midpoint(low, high),
+        Some(friction) => movable(friction),
+        None => f64::midpoint(movable(Friction::Low), movable(Friction::High)),
     }
 }
 
@@ -280,15 +276,16 @@ fn spawn_sheet(cloth: &SeenCloth, model: &ClothModel) -> Sheet {
     let height = f64::midpoint(low[1], high[1]);
     let resolution = model.resolution.max(2);
     let spacing = side / (resolution - 1) as f64;
+    let [high_friction, low_friction] = VALUES.friction;
     let friction = match cloth.friction {
-        Some(FrictionClass::Low) => CLOTH_FRICTION[0],
-        Some(FrictionClass::High) => CLOTH_FRICTION[1],
-        None => f64::midpoint(CLOTH_FRICTION[0], CLOTH_FRICTION[1]),
+        Some(Friction::Low) => low_friction,
+        Some(Friction::High) => high_friction,
+        None => f64::midpoint(low_friction, high_friction),
     };
     // A bend triplet's middle particle may leave the centroid by the max bending d, which on a
     // grid of spacing h allows a curvature of 3d/h²: a coarser grid keeps the video cloth's
     // curvature with d scaled by the square of the spacings' ratio.
-    let spacing_ratio = (VIDEO_RESOLUTION - 1) as f64 / (resolution - 1) as f64;
+    let spacing_ratio = (CLOTH_RESOLUTION - 1) as f64 / (resolution - 1) as f64;
     Sheet::new(&SheetSpec {
         resolution,
         side,
@@ -346,8 +343,8 @@ mod tests {
     #[test]
     fn assumed_masses_are_the_movable_masses_of_the_friction_s_pool() {
         let masses = [
-            assumed_mass(Shape::Plate, Some(FrictionClass::Low)),
-            assumed_mass(Shape::Pillar, Some(FrictionClass::High)),
+            assumed_mass(Shape::Plate, Some(Friction::Low)),
+            assumed_mass(Shape::Pillar, Some(Friction::High)),
             assumed_mass(Shape::Pillar, None),
         ];
         assert_eq!(
@@ -377,7 +374,7 @@ mod tests {
                 spawn: spawn(2.5),
                 stretch_compliance: 0.0,
                 max_bending: 0.0,
-                friction: Some(FrictionClass::High),
+                friction: Some(Friction::High),
                 pull_distance: 30.0,
             },
             SeenCloth {

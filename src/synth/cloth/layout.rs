@@ -187,7 +187,7 @@ fn sample_cloth(rng: &mut ChaCha8Rng) -> ClothLayout {
 }
 
 /// The masses a half's plates and pillars draw from, by its cloth's friction.
-fn mass_pools(friction: Friction) -> (&'static [f64], &'static [f64]) {
+pub fn mass_pools(friction: Friction) -> (&'static [f64], &'static [f64]) {
     match friction {
         Friction::Low => (
             &[2.0, 2.001, 2.002, 99999.0, 99998.0],

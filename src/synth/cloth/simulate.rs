@@ -35,11 +35,13 @@ pub const CAPTURE_EVERY: usize = 2;
 pub const PULL_SPEED: f64 = 3.0;
 /// Speed (units/s) or angular speed (rad/s) above which a box counts as moving.
 const MOVING: f64 = 0.2;
-/// Mass of a cloth per unit area, kg/m².
-const CLOTH_AREAL_MASS: f64 = 0.1;
+/// Mass of a cloth per unit area, kg/m² (the release does not record it).
+pub const CLOTH_AREAL_MASS: f64 = 0.1;
 /// The friction of the table, plates and pillars (`HighFriction`), averaged with the cloth's
 /// as Unity and Obi combine frictions by default.
-const OBJECT_FRICTION: f64 = 4.0;
+pub const OBJECT_FRICTION: f64 = 4.0;
+/// A cloth particle's radius per grid spacing.
+pub const RADIUS_PER_SPACING: f64 = 0.4;
 
 /// The cloth's friction in this solver per unit of the release's coefficient. The release's
 /// values (0.5 or 4 for the cloth, 4 for the objects, averaged) are Obi solver settings, not
@@ -120,7 +122,7 @@ pub fn spawn_sheet(half: &HalfLayout) -> Sheet {
             CLOTH_START_Z - CLOTH_SIDE,
         ],
         mass: CLOTH_AREAL_MASS * CLOTH_SIDE * CLOTH_SIDE,
-        particle_radius: 0.4 * spacing,
+        particle_radius: RADIUS_PER_SPACING * spacing,
         properties: SheetProperties {
             stretch_compliance: cloth.stretch_compliance,
             max_bending: cloth.max_bending,
