@@ -39,7 +39,7 @@
 
 use crate::dataset::FourDData;
 use crate::dataset::cloth::names::Side;
-use crate::physics::vector3::{self as v3, Vector};
+use crate::physics::vector3::{self as v3, Quaternion, Vector};
 use crate::scene_api::ApiError;
 
 /// Max bending (units) between the release's two values (0.013 and 0.035) over which a cloth is
@@ -80,6 +80,20 @@ const TRAVEL_BEFORE_FRAME_0: f64 = 0.05;
 pub const HELD_FRAME: usize = 64;
 /// The percentile of the bend offsets that is read as the max bending.
 const BEND_PERCENTILE: f64 = 0.99;
+/// The 4-D frames the cloth's resting drape is read from (it has settled over the boxes it
+/// lies on); a shorter video gives its last frames, as many.
+pub const DRAPE_FRAMES: std::ops::RangeInclusive<usize> = 95..=114;
+/// Particle-frames of the drape over a box's top that show the cloth lying on it (a cloth
+/// brushing a corner gives one or two).
+pub const DRAPE_PARTICLES: usize = 5;
+/// The share of a box's top face, along each of its axes, that a particle lying on it is over.
+const DRAPE_FOOTPRINT: f64 = 0.8;
+/// How far under a box's top a particle lying on it may be, units (the cloth sinks into the
+/// contact by a little of its particle radius).
+const DRAPE_BELOW: f64 = 0.05;
+/// How far over a box's top a particle lying on it may be, units (a particle's centre rests a
+/// radius, 0.04, over it; a fold or the cloth's second layer a little more).
+const DRAPE_ABOVE: f64 = 0.15;
 
 /// What the video shows of one cloth.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,6 +117,8 @@ pub struct ClothReading {
     pub table_fraction: f64,
     /// The gripped row's travel along z while dragged, units.
     pub pull_distance: f64,
+    /// The particles of every frame of [`DRAPE_FRAMES`] (the cloth at rest), units.
+    pub drape: Vec<Vector>,
 }
 
 /// Which cloth each property's question finds to have more of it; `None` where the video does
@@ -212,6 +228,7 @@ pub fn read_cloth(side: Side, frames: &[Vec<[f64; 3]>]) -> Result<ClothReading, 
         landing_friction: landing_friction(frames),
         table_fraction: table_fraction(&frames[TABLE_FRAMES]),
         pull_distance: grid.pull_distance(first, &frames[HELD_FRAME]) + TRAVEL_BEFORE_FRAME_0,
+        drape: drape_frames(frames).flatten().copied().collect(),
     })
 }
 
@@ -260,6 +277,33 @@ fn table_fraction(frames: &[Vec<[f64; 3]>]) -> f64 {
     } else {
         on as f64 / all as f64
     }
+}
+
+/// Whether the cloth at rest lies on the top of a box standing where it started (centre
+/// `position`, orientation `orientation`, full extents `size` along its axes): at least
+/// [`DRAPE_PARTICLES`] particle-frames of `drape` lie over the middle [`DRAPE_FOOTPRINT`] of
+/// its top face, from just under it ([`DRAPE_BELOW`]) to [`DRAPE_ABOVE`] over it.
+pub fn lies_on(drape: &[Vector], position: Vector, orientation: Quaternion, size: Vector) -> bool {
+    let to_local = v3::transpose(&v3::rotation_matrix(orientation));
+    let half = v3::scale(size, 0.5);
+    let over = drape
+        .iter()
+        .filter(|particle| {
+            let local = v3::apply(&to_local, v3::sub(**particle, position));
+            local[0].abs() < DRAPE_FOOTPRINT * half[0]
+                && local[2].abs() < DRAPE_FOOTPRINT * half[2]
+                && local[1] > half[1] - DRAPE_BELOW
+                && local[1] < half[1] + DRAPE_ABOVE
+        })
+        .count();
+    over >= DRAPE_PARTICLES
+}
+
+/// The frames of [`DRAPE_FRAMES`], or as many of the last frames where the video is shorter.
+fn drape_frames(frames: &[Vec<[f64; 3]>]) -> impl Iterator<Item = &Vec<[f64; 3]>> {
+    let count = DRAPE_FRAMES.end() + 1 - DRAPE_FRAMES.start();
+    let end = frames.len().min(DRAPE_FRAMES.end() + 1);
+    frames[end.saturating_sub(count)..end].iter()
 }
 
 /// The side of a square grid of `count` particles, if it is one of at least 3 × 3.
@@ -472,6 +516,7 @@ mod tests {
             landing_friction: Some(landing),
             table_fraction: 0.3,
             pull_distance: 5.0,
+            drape: Vec::new(),
         };
         let verdict = ClothVerdict::of(&[
             reading(Side::Left, 0.014, 0.024, 0.5),
@@ -523,5 +568,51 @@ mod tests {
             message(&bad),
             "the tracked `Cloth (Right)` has a non-finite position or another particle count in frame 30"
         );
+    }
+
+    #[test]
+    fn the_cloth_lies_on_a_box_when_its_resting_particles_cover_the_box_s_top() {
+        // A pillar 0.5 × 2 × 0.5 standing at (1, 1, 1), turned 90° about y (its x and z extents
+        // swap; the test is in its own frame), under a 7 × 7 patch of particles 0.04 over its
+        // top, spacing 0.05 (all within 0.15 of the centre, inside the middle 80%: 0.2).
+        let size = [0.5, 2.0, 0.5];
+        let turned = [0.5_f64.sqrt(), 0.0, 0.5_f64.sqrt(), 0.0];
+        let patch = |height: f64, x0: f64| -> Vec<Vector> {
+            (0..49)
+                .map(|k: i32| {
+                    let (column, row) = (f64::from(k % 7), f64::from(k / 7));
+                    [x0 + 0.85 + column * 0.05, height, 0.85 + row * 0.05]
+                })
+                .collect()
+        };
+        assert!(lies_on(&patch(2.04, 0.0), [1.0, 1.0, 1.0], turned, size));
+        // Fallen: the cloth lies on the table where the top was.
+        assert!(!lies_on(&patch(0.04, 0.0), [1.0, 1.0, 1.0], turned, size));
+        // Beside the box at its top's height (a neighbouring pillar): not on it.
+        assert!(!lies_on(&patch(2.04, 0.6), [1.0, 1.0, 1.0], turned, size));
+        // Over it, but in a fold 0.3 above the top: not lying on it.
+        assert!(!lies_on(&patch(2.3, 0.0), [1.0, 1.0, 1.0], turned, size));
+        // Four particle-frames are too few.
+        assert!(!lies_on(
+            &patch(2.04, 0.0)[20..24],
+            [1.0, 1.0, 1.0],
+            turned,
+            size
+        ));
+    }
+
+    #[test]
+    fn the_drape_is_read_from_its_frames_or_the_last_of_a_shorter_video() {
+        let tagged = |frames: usize| -> Vec<Vec<[f64; 3]>> {
+            (0..frames).map(|frame| vec![[frame as f64; 3]]).collect()
+        };
+        let first_and_count = |frames: usize| {
+            let track = tagged(frames);
+            let drape: Vec<_> = drape_frames(&track).collect();
+            (drape[0][0][0], drape.len())
+        };
+        assert_eq!(first_and_count(145), (95.0, 20));
+        assert_eq!(first_and_count(100), (80.0, 20));
+        assert_eq!(first_and_count(12), (0.0, 12));
     }
 }
