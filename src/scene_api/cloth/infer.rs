@@ -80,20 +80,12 @@ const TRAVEL_BEFORE_FRAME_0: f64 = 0.05;
 pub const HELD_FRAME: usize = 64;
 /// The percentile of the bend offsets that is read as the max bending.
 const BEND_PERCENTILE: f64 = 0.99;
-/// The 4-D frames the cloth's resting drape is read from (it has settled over the boxes it
-/// lies on); a shorter video gives its last frames, as many.
-pub const DRAPE_FRAMES: std::ops::RangeInclusive<usize> = 95..=114;
-/// Particle-frames of the drape over a box's top that show the cloth lying on it (a cloth
-/// brushing a corner gives one or two).
-pub const DRAPE_PARTICLES: usize = 5;
-/// The share of a box's top face, along each of its axes, that a particle lying on it is over.
-const DRAPE_FOOTPRINT: f64 = 0.8;
-/// How far under a box's top a particle lying on it may be, units (the cloth sinks into the
-/// contact by a little of its particle radius).
-const DRAPE_BELOW: f64 = 0.05;
-/// How far over a box's top a particle lying on it may be, units (a particle's centre rests a
-/// radius, 0.04, over it; a fold or the cloth's second layer a little more).
-const DRAPE_ABOVE: f64 = 0.15;
+/// How far inside a box's faces a particle's centre must be to have gone through where the box
+/// stood, units (more than a particle's radius, 0.04: the whole particle is inside).
+pub const THROUGH_DEPTH: f64 = 0.05;
+/// Particle-frames inside a box's place that show the cloth went through it (one or two may be
+/// a particle pushed into a face by the solver's contact).
+pub const THROUGH_PARTICLES: usize = 5;
 
 /// What the video shows of one cloth.
 #[derive(Debug, Clone, PartialEq)]
@@ -117,8 +109,8 @@ pub struct ClothReading {
     pub table_fraction: f64,
     /// The gripped row's travel along z while dragged, units.
     pub pull_distance: f64,
-    /// The particles of every frame of [`DRAPE_FRAMES`] (the cloth at rest), units.
-    pub drape: Vec<Vector>,
+    /// The particles of every frame, units.
+    pub track: Vec<Vec<Vector>>,
 }
 
 /// Which cloth each property's question finds to have more of it; `None` where the video does
@@ -228,7 +220,7 @@ pub fn read_cloth(side: Side, frames: &[Vec<[f64; 3]>]) -> Result<ClothReading, 
         landing_friction: landing_friction(frames),
         table_fraction: table_fraction(&frames[TABLE_FRAMES]),
         pull_distance: grid.pull_distance(first, &frames[HELD_FRAME]) + TRAVEL_BEFORE_FRAME_0,
-        drape: drape_frames(frames).flatten().copied().collect(),
+        track: frames.to_vec(),
     })
 }
 
@@ -279,31 +271,31 @@ fn table_fraction(frames: &[Vec<[f64; 3]>]) -> f64 {
     }
 }
 
-/// Whether the cloth at rest lies on the top of a box standing where it started (centre
-/// `position`, orientation `orientation`, full extents `size` along its axes): at least
-/// [`DRAPE_PARTICLES`] particle-frames of `drape` lie over the middle [`DRAPE_FOOTPRINT`] of
-/// its top face, from just under it ([`DRAPE_BELOW`]) to [`DRAPE_ABOVE`] over it.
-pub fn lies_on(drape: &[Vector], position: Vector, orientation: Quaternion, size: Vector) -> bool {
+/// Whether the cloth goes through the place a box stood at the start (centre `position`,
+/// orientation `orientation`, full extents `size` along its axes) in any frame of `track`: at
+/// least [`THROUGH_PARTICLES`] particle-frames [`THROUGH_DEPTH`] inside all its faces. It cannot
+/// while the box stands there, so a box it goes through was moved.
+pub fn goes_through(
+    track: &[Vec<Vector>],
+    position: Vector,
+    orientation: Quaternion,
+    size: Vector,
+) -> bool {
     let to_local = v3::transpose(&v3::rotation_matrix(orientation));
-    let half = v3::scale(size, 0.5);
-    let over = drape
+    let inner = v3::sub(v3::scale(size, 0.5), [THROUGH_DEPTH; 3]);
+    if inner.iter().any(|extent| *extent <= 0.0) {
+        return false;
+    }
+    let inside = track
         .iter()
+        .flatten()
         .filter(|particle| {
             let local = v3::apply(&to_local, v3::sub(**particle, position));
-            local[0].abs() < DRAPE_FOOTPRINT * half[0]
-                && local[2].abs() < DRAPE_FOOTPRINT * half[2]
-                && local[1] > half[1] - DRAPE_BELOW
-                && local[1] < half[1] + DRAPE_ABOVE
+            (0..3).all(|axis| local[axis].abs() < inner[axis])
         })
+        .take(THROUGH_PARTICLES)
         .count();
-    over >= DRAPE_PARTICLES
-}
-
-/// The frames of [`DRAPE_FRAMES`], or as many of the last frames where the video is shorter.
-fn drape_frames(frames: &[Vec<[f64; 3]>]) -> impl Iterator<Item = &Vec<[f64; 3]>> {
-    let count = DRAPE_FRAMES.end() + 1 - DRAPE_FRAMES.start();
-    let end = frames.len().min(DRAPE_FRAMES.end() + 1);
-    frames[end.saturating_sub(count)..end].iter()
+    inside >= THROUGH_PARTICLES
 }
 
 /// The side of a square grid of `count` particles, if it is one of at least 3 × 3.
@@ -516,7 +508,7 @@ mod tests {
             landing_friction: Some(landing),
             table_fraction: 0.3,
             pull_distance: 5.0,
-            drape: Vec::new(),
+            track: Vec::new(),
         };
         let verdict = ClothVerdict::of(&[
             reading(Side::Left, 0.014, 0.024, 0.5),
@@ -571,48 +563,39 @@ mod tests {
     }
 
     #[test]
-    fn the_cloth_lies_on_a_box_when_its_resting_particles_cover_the_box_s_top() {
+    fn the_cloth_goes_through_a_box_s_place_when_particles_are_wholly_inside_it() {
         // A pillar 0.5 × 2 × 0.5 standing at (1, 1, 1), turned 90° about y (its x and z extents
-        // swap; the test is in its own frame), under a 7 × 7 patch of particles 0.04 over its
-        // top, spacing 0.05 (all within 0.15 of the centre, inside the middle 80%: 0.2).
+        // swap; the test is in its own frame). A 3 × 3 patch of particles at spacing 0.05
+        // around (1, h, 1) over two frames is 18 particle-frames.
         let size = [0.5, 2.0, 0.5];
         let turned = [0.5_f64.sqrt(), 0.0, 0.5_f64.sqrt(), 0.0];
-        let patch = |height: f64, x0: f64| -> Vec<Vector> {
-            (0..49)
+        let patch = |height: f64, x0: f64| -> Vec<Vec<Vector>> {
+            let frame: Vec<Vector> = (0..9)
                 .map(|k: i32| {
-                    let (column, row) = (f64::from(k % 7), f64::from(k / 7));
-                    [x0 + 0.85 + column * 0.05, height, 0.85 + row * 0.05]
+                    let (column, row) = (f64::from(k % 3), f64::from(k / 3));
+                    [x0 + 0.95 + column * 0.05, height, 0.95 + row * 0.05]
                 })
-                .collect()
+                .collect();
+            vec![frame.clone(), frame]
         };
-        assert!(lies_on(&patch(2.04, 0.0), [1.0, 1.0, 1.0], turned, size));
-        // Fallen: the cloth lies on the table where the top was.
-        assert!(!lies_on(&patch(0.04, 0.0), [1.0, 1.0, 1.0], turned, size));
-        // Beside the box at its top's height (a neighbouring pillar): not on it.
-        assert!(!lies_on(&patch(2.04, 0.6), [1.0, 1.0, 1.0], turned, size));
-        // Over it, but in a fold 0.3 above the top: not lying on it.
-        assert!(!lies_on(&patch(2.3, 0.0), [1.0, 1.0, 1.0], turned, size));
+        let at = [1.0, 1.0, 1.0];
+        // Lying over its middle, at half its height: the box was not there.
+        assert!(goes_through(&patch(1.0, 0.0), at, turned, size));
+        // Resting on its top (centres a radius over it): it stood there.
+        assert!(!goes_through(&patch(2.04, 0.0), at, turned, size));
+        // Only 0.03 inside the top: a particle pushed into a face, not through it.
+        assert!(!goes_through(&patch(1.97, 0.0), at, turned, size));
+        // Beside it: x from 1.25 to 1.35 is outside its face.
+        assert!(!goes_through(&patch(1.0, 0.3), at, turned, size));
         // Four particle-frames are too few.
-        assert!(!lies_on(
-            &patch(2.04, 0.0)[20..24],
-            [1.0, 1.0, 1.0],
+        let few = vec![patch(1.0, 0.0)[0][..4].to_vec()];
+        assert!(!goes_through(&few, at, turned, size));
+        // A box thinner than twice the depth has no inside to go through.
+        assert!(!goes_through(
+            &patch(0.0, 0.0),
+            [1.0, 0.0, 1.0],
             turned,
-            size
+            [0.08, 0.08, 0.08]
         ));
-    }
-
-    #[test]
-    fn the_drape_is_read_from_its_frames_or_the_last_of_a_shorter_video() {
-        let tagged = |frames: usize| -> Vec<Vec<[f64; 3]>> {
-            (0..frames).map(|frame| vec![[frame as f64; 3]]).collect()
-        };
-        let first_and_count = |frames: usize| {
-            let track = tagged(frames);
-            let drape: Vec<_> = drape_frames(&track).collect();
-            (drape[0][0][0], drape.len())
-        };
-        assert_eq!(first_and_count(145), (95.0, 20));
-        assert_eq!(first_and_count(100), (80.0, 20));
-        assert_eq!(first_and_count(12), (0.0, 12));
     }
 }

@@ -276,7 +276,7 @@ mod tests {
             position: [x, size[1] / 2.0, z],
             orientation: [1.0, 0.0, 0.0, 0.0],
             mass: Some(99999.0),
-            lain_on: false,
+            undisturbed: false,
         };
         let half = SeenHalf {
             boxes: vec![

@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use super::infer::{ClothReading, ClothVerdict, lies_on, read_cloths};
+use super::infer::{ClothReading, ClothVerdict, goes_through, read_cloths};
 use super::simulate::{ClothModel, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half};
 use crate::dataset::FourDData;
 use crate::dataset::cloth::names::Side;
@@ -105,7 +105,7 @@ pub(crate) fn observe(folder: &Path) -> Result<Observed, ApiError> {
 }
 
 /// `side`'s half as the video shows it: the annotation's boxes where they start (what the
-/// first frames show), each marked where the cloth at rest lies on it, and the cloth read from its particles, with the properties of the
+/// first frames show), each marked where the cloth never goes through its place, and the cloth read from its particles, with the properties of the
 /// verdict (where a property is not told, the mean of the release's two values).
 pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Observed) -> SeenHalf {
     let reading = match side {
@@ -117,7 +117,8 @@ pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Obs
         .boxes()
         .map(|record| {
             let mut seen = SeenBox::from_record(record, None);
-            seen.lain_on = lies_on(&reading.drape, seen.position, seen.orientation, seen.size);
+            seen.undisturbed =
+                !goes_through(&reading.track, seen.position, seen.orientation, seen.size);
             seen
         })
         .collect();
