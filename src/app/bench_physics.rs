@@ -172,9 +172,31 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
                         });
                     if count == 0 { 0.0 } else { sum / count as f64 }
                 }
+                Reduction::DecidedCategories(size) => decided_categories(got, expected, size),
             }
         })
         .collect()
+}
+
+/// The error of [`Reduction::DecidedCategories`]: over the groups of `size` shares that the
+/// reference holds one-hot, the mean share of runs outside the reference's category.
+fn decided_categories(got: &[f64], expected: &[f64], size: usize) -> f64 {
+    if size == 0 {
+        return f64::INFINITY;
+    }
+    let is_label = |share: &f64| share.abs() < 1e-9 || (share - 1.0).abs() < 1e-9;
+    let (sum, count) = got
+        .chunks(size)
+        .zip(expected.chunks(size))
+        .filter(|(_, expected)| {
+            expected.iter().all(is_label)
+                && expected.iter().filter(|share| **share > 0.5).count() == 1
+        })
+        .fold((0.0, 0usize), |(sum, count), (got, expected)| {
+            let difference: f64 = got.iter().zip(expected).map(|(a, b)| (a - b).abs()).sum();
+            (sum + difference / 2.0, count + 1)
+        });
+    if count == 0 { 0.0 } else { sum / count as f64 }
 }
 
 /// The points to sweep: the simulator's, or the product of the values given per parameter
@@ -529,6 +551,7 @@ mod tests {
             measure(Reduction::Mean),
             measure(Reduction::Mismatch),
             measure(Reduction::DecidedMean),
+            measure(Reduction::DecidedCategories(3)),
         ];
         // Codes 0, 3, 1, 4 against the reference's 0, 1, 1, 2: two of four differ, by 2 each.
         let got = vec![vec![0.0, 3.0, 1.0, 4.0]; 3];
@@ -539,10 +562,18 @@ mod tests {
         expected.push(vec![1.0, 0.5, 1.0]);
         // Decided: the labels the reference holds at 0 or 1 (the first and third), off by 0.5
         // and 1.
+        // Categories, three to a group: the reference's first group is decided (all runs in
+        // the second category), where the point has a quarter of its runs in the third; the
+        // second group is split, left out.
+        measured.push(vec![0.0, 0.75, 0.25, 0.5, 0.5, 0.0]);
+        expected.push(vec![0.0, 1.0, 0.0, 0.5, 0.0, 0.5]);
         assert_eq!(
             errors(&measures, &measured, &expected),
-            vec![2.0, 1.0, 0.5, 0.75]
+            vec![2.0, 1.0, 0.5, 0.75, 0.25]
         );
+        // Nothing decided: no error; a group size of 0: no meaning.
+        assert!(decided_categories(&[0.5, 0.5], &[0.5, 0.5], 2).abs() < 1e-15);
+        assert!(decided_categories(&[1.0], &[1.0], 0).is_infinite());
     }
 
     #[test]

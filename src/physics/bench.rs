@@ -117,6 +117,11 @@ pub enum Reduction {
     /// of labels that are shares of an ensemble's runs, those every run of the reference's
     /// ensemble agrees on (none: 0).
     DecidedMean,
+    /// Of categories as shares of an ensemble's runs, in groups of this many (one share per
+    /// category: a box's end pose), the groups whose reference puts every run in one category
+    /// (decided): the mean share of runs in another category (half the group's summed absolute
+    /// difference; none decided: 0).
+    DecidedCategories(usize),
 }
 
 /// One error measure of a benchmark.

@@ -39,7 +39,7 @@
 
 use crate::dataset::FourDData;
 use crate::dataset::cloth::names::Side;
-use crate::physics::vector3::{self as v3, Vector};
+use crate::physics::vector3::{self as v3, Quaternion, Vector};
 use crate::scene_api::ApiError;
 
 /// Max bending (units) between the release's two values (0.013 and 0.035) over which a cloth is
@@ -80,6 +80,12 @@ const TRAVEL_BEFORE_FRAME_0: f64 = 0.05;
 pub const HELD_FRAME: usize = 64;
 /// The percentile of the bend offsets that is read as the max bending.
 const BEND_PERCENTILE: f64 = 0.99;
+/// How far inside a box's faces a particle's centre must be to have gone through where the box
+/// stood, units (more than a particle's radius, 0.04: the whole particle is inside).
+pub const THROUGH_DEPTH: f64 = 0.05;
+/// Particle-frames inside a box's place that show the cloth went through it (one or two may be
+/// a particle pushed into a face by the solver's contact).
+pub const THROUGH_PARTICLES: usize = 5;
 
 /// What the video shows of one cloth.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,6 +109,8 @@ pub struct ClothReading {
     pub table_fraction: f64,
     /// The gripped row's travel along z while dragged, units.
     pub pull_distance: f64,
+    /// The particles of every frame, units.
+    pub track: Vec<Vec<Vector>>,
 }
 
 /// Which cloth each property's question finds to have more of it; `None` where the video does
@@ -212,6 +220,7 @@ pub fn read_cloth(side: Side, frames: &[Vec<[f64; 3]>]) -> Result<ClothReading, 
         landing_friction: landing_friction(frames),
         table_fraction: table_fraction(&frames[TABLE_FRAMES]),
         pull_distance: grid.pull_distance(first, &frames[HELD_FRAME]) + TRAVEL_BEFORE_FRAME_0,
+        track: frames.to_vec(),
     })
 }
 
@@ -260,6 +269,33 @@ fn table_fraction(frames: &[Vec<[f64; 3]>]) -> f64 {
     } else {
         on as f64 / all as f64
     }
+}
+
+/// Whether the cloth goes through the place a box stood at the start (centre `position`,
+/// orientation `orientation`, full extents `size` along its axes) in any frame of `track`: at
+/// least [`THROUGH_PARTICLES`] particle-frames [`THROUGH_DEPTH`] inside all its faces. It cannot
+/// while the box stands there, so a box it goes through was moved.
+pub fn goes_through(
+    track: &[Vec<Vector>],
+    position: Vector,
+    orientation: Quaternion,
+    size: Vector,
+) -> bool {
+    let to_local = v3::transpose(&v3::rotation_matrix(orientation));
+    let inner = v3::sub(v3::scale(size, 0.5), [THROUGH_DEPTH; 3]);
+    if inner.iter().any(|extent| *extent <= 0.0) {
+        return false;
+    }
+    let inside = track
+        .iter()
+        .flatten()
+        .filter(|particle| {
+            let local = v3::apply(&to_local, v3::sub(**particle, position));
+            (0..3).all(|axis| local[axis].abs() < inner[axis])
+        })
+        .take(THROUGH_PARTICLES)
+        .count();
+    inside >= THROUGH_PARTICLES
 }
 
 /// The side of a square grid of `count` particles, if it is one of at least 3 × 3.
@@ -472,6 +508,7 @@ mod tests {
             landing_friction: Some(landing),
             table_fraction: 0.3,
             pull_distance: 5.0,
+            track: Vec::new(),
         };
         let verdict = ClothVerdict::of(&[
             reading(Side::Left, 0.014, 0.024, 0.5),
@@ -523,5 +560,42 @@ mod tests {
             message(&bad),
             "the tracked `Cloth (Right)` has a non-finite position or another particle count in frame 30"
         );
+    }
+
+    #[test]
+    fn the_cloth_goes_through_a_box_s_place_when_particles_are_wholly_inside_it() {
+        // A pillar 0.5 × 2 × 0.5 standing at (1, 1, 1), turned 90° about y (its x and z extents
+        // swap; the test is in its own frame). A 3 × 3 patch of particles at spacing 0.05
+        // around (1, h, 1) over two frames is 18 particle-frames.
+        let size = [0.5, 2.0, 0.5];
+        let turned = [0.5_f64.sqrt(), 0.0, 0.5_f64.sqrt(), 0.0];
+        let patch = |height: f64, x0: f64| -> Vec<Vec<Vector>> {
+            let frame: Vec<Vector> = (0..9)
+                .map(|k: i32| {
+                    let (column, row) = (f64::from(k % 3), f64::from(k / 3));
+                    [x0 + 0.95 + column * 0.05, height, 0.95 + row * 0.05]
+                })
+                .collect();
+            vec![frame.clone(), frame]
+        };
+        let at = [1.0, 1.0, 1.0];
+        // Lying over its middle, at half its height: the box was not there.
+        assert!(goes_through(&patch(1.0, 0.0), at, turned, size));
+        // Resting on its top (centres a radius over it): it stood there.
+        assert!(!goes_through(&patch(2.04, 0.0), at, turned, size));
+        // Only 0.03 inside the top: a particle pushed into a face, not through it.
+        assert!(!goes_through(&patch(1.97, 0.0), at, turned, size));
+        // Beside it: x from 1.25 to 1.35 is outside its face.
+        assert!(!goes_through(&patch(1.0, 0.3), at, turned, size));
+        // Four particle-frames are too few.
+        let few = vec![patch(1.0, 0.0)[0][..4].to_vec()];
+        assert!(!goes_through(&few, at, turned, size));
+        // A box thinner than twice the depth has no inside to go through.
+        assert!(!goes_through(
+            &patch(0.0, 0.0),
+            [1.0, 0.0, 1.0],
+            turned,
+            [0.08, 0.08, 0.08]
+        ));
     }
 }

@@ -1,14 +1,18 @@
 //! `bench inference` for cloth videos: the properties `--dynamics simulate` reads from the
 //! cloths' tracked particles ([`super::infer`]) against the values the videos were made with,
-//! counted right, wrong and not told per property, with each video's measures.
+//! counted right, wrong and not told per property, with each video's measures; and the boxes
+//! the cloth never goes through (given the immovable mass) against their true masses and end
+//! poses.
 //!
 //! Input: valid cloth video folders (`outputs.json`, `outputs4D.json`) and track-noise levels
 //! (Gaussian, standard deviation in units, added to every particle coordinate). Output: JSON.
 
 use serde_json::{Value, json};
 
-use super::infer::{ClothReading, ClothVerdict, read_cloths};
+use super::infer::{ClothReading, ClothVerdict, goes_through, read_cloths};
+use super::simulate::SeenBox;
 use crate::dataset::cloth::names::Side;
+use crate::dataset::cloth::outcome::Pose;
 use crate::dataset::cloth::{ClothAnnotation, Friction, VALUES};
 use crate::dataset::{FourDData, VideoFolder};
 use crate::scene_api::ApiError;
@@ -36,6 +40,7 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
         .iter()
         .map(|&noise| -> Result<Value, ApiError> {
             let mut counts: Vec<(&'static str, [u64; 3])> = Vec::new();
+            let mut boxes = BoxCounts::default();
             let mut per_video = Vec::with_capacity(loaded.len());
             for (id, annotation, tracked) in &loaded {
                 let mut four_d = tracked.clone();
@@ -51,6 +56,7 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
                 let readings = read_cloths(&four_d)?;
                 let verdict = ClothVerdict::of(&readings);
                 let scored = scored(annotation, verdict);
+                boxes.add(annotation, &readings);
                 for property in &scored {
                     let column = match property.told {
                         Some(side) if side == property.truth => 0,
@@ -93,6 +99,7 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
                 "track_noise_sd": noise,
                 "videos": loaded.len(),
                 "per_property": per_property,
+                "boxes": boxes.to_json(),
                 "per_video": per_video,
             }))
         })
@@ -103,6 +110,47 @@ pub fn inference_report(videos: &[VideoFolder], noise_levels: &[f64]) -> Result<
         json!({"bench": "inference", "scenario": "cloth", "sweeps": sweeps})
     })
 }
+
+/// Boxes by whether the cloth goes through their place (`moved`) or never does
+/// (`undisturbed`), against the truth: immovable (a 99999-class mass), light and upright at the
+/// end, or light and not.
+#[derive(Debug, Default)]
+struct BoxCounts {
+    /// Undisturbed, then moved; each immovable, light upright, light fallen.
+    counts: [[u64; 3]; 2],
+}
+
+impl BoxCounts {
+    fn add(&mut self, annotation: &ClothAnnotation, readings: &[ClothReading; 2]) {
+        for (side, reading) in Side::BOTH.into_iter().zip(readings) {
+            for record in annotation.objects(side).boxes() {
+                let seen = SeenBox::from_record(record, None);
+                let moved =
+                    goes_through(&reading.track, seen.position, seen.orientation, seen.size);
+                let truth = if record.mass >= IMMOVABLE {
+                    0
+                } else if record.end_pose == Pose::Upright {
+                    1
+                } else {
+                    2
+                };
+                self.counts[usize::from(moved)][truth] += 1;
+            }
+        }
+    }
+
+    fn to_json(&self) -> Value {
+        let row = |[immovable, upright, fallen]: [u64; 3]| json!({"immovable": immovable, "light_upright": upright, "light_not_upright": fallen});
+        json!({
+            "what": "boxes whose start place the cloth never goes through (the simulation gives them their pool's immovable mass) and the others, by their true mass and end pose",
+            "undisturbed": row(self.counts[0]),
+            "moved": row(self.counts[1]),
+        })
+    }
+}
+
+/// Masses from this on are the release's immovable draws (99998 and 99999 kg), kg.
+const IMMOVABLE: f64 = 99998.0;
 
 /// Each property's verdict next to the annotation's cloth with more of it.
 fn scored(annotation: &ClothAnnotation, verdict: ClothVerdict) -> Vec<Scored> {

@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock, PoisonError};
 
-use super::infer::{ClothVerdict, read_cloths};
+use super::infer::{ClothVerdict, goes_through, read_cloths};
 use super::perceived::PlacedBox;
 use super::pixels;
 use super::simulate::{ClothModel, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half};
@@ -30,6 +30,8 @@ pub(crate) struct ObservedCloth {
     pub spawn: Vec<Vector>,
     /// How far the handle drags it, units.
     pub pull_distance: f64,
+    /// Its tracked particles per frame, units (`None` read from pixels).
+    pub track: Option<Vec<Vec<Vector>>>,
 }
 
 /// What the video shows of the two cloths.
@@ -182,6 +184,7 @@ pub(crate) fn observe(folder: &Path) -> Result<Observed, ApiError> {
         cloths: readings.map(|reading| ObservedCloth {
             spawn: reading.spawn,
             pull_distance: reading.pull_distance,
+            track: Some(reading.track),
         }),
         verdict,
         draped: None,
@@ -211,10 +214,12 @@ fn observe_pixels(
             ObservedCloth {
                 spawn: left,
                 pull_distance: pixels::MEAN_PULL,
+                track: None,
             },
             ObservedCloth {
                 spawn: right,
                 pull_distance: pixels::MEAN_PULL,
+                track: None,
             },
         ],
         verdict: seen.verdict,
@@ -223,18 +228,38 @@ fn observe_pixels(
 }
 
 /// `side`'s half as the video shows it: the annotation's boxes where they start (what the
-/// first frames show) and the cloth read from its particles, with the properties of the
-/// verdict (where a property is not told, the mean of the release's two values).
+/// first frames show), each marked undisturbed where the tracked cloth never goes through its
+/// place (read from pixels: where the cloth lies on its top after the handle lets go), and the
+/// cloth as read, with the properties of the verdict (where a property is not told, the mean of
+/// the release's two values).
 pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Observed) -> SeenHalf {
-    let boxes = annotation
-        .objects(side)
-        .boxes()
-        .map(|record| SeenBox::from_record(record, None))
-        .collect();
     let reading = match side {
         Side::Left => &observed.cloths[0],
         Side::Right => &observed.cloths[1],
     };
+    let index = usize::from(side == Side::Right);
+    let draped = observed
+        .draped
+        .as_ref()
+        .and_then(|draped| draped.get(index));
+    let boxes = annotation
+        .objects(side)
+        .boxes()
+        .enumerate()
+        .map(|(at, record)| {
+            let mut seen = SeenBox::from_record(record, None);
+            // From the tracked cloth: undisturbed where its path never goes through the box's
+            // place. From pixels: where the cloth lies on its top after the handle lets go.
+            seen.undisturbed = match &reading.track {
+                Some(track) => !goes_through(track, seen.position, seen.orientation, seen.size),
+                None => draped
+                    .and_then(|flags| flags.get(at))
+                    .copied()
+                    .unwrap_or(false),
+            };
+            seen
+        })
+        .collect();
     let pick = |told: Option<Side>, [more, less]: [f64; 2]| match told {
         Some(winner) if winner == side => more,
         Some(_) => less,
