@@ -151,6 +151,21 @@ impl CameraModel {
         (distance > 0.0 && world.iter().all(|v| v.is_finite())).then_some(world)
     }
 
+    /// The world point `(x, z)` on the horizontal plane `y = plane_y` seen at pixel `(x, y)`,
+    /// if the viewing ray meets the plane in front of the camera.
+    pub fn lift_to_height(&self, x: f64, y: f64, plane_y: f64) -> Option<[f64; 2]> {
+        let direction = self.ray(x, y);
+        if direction[1].abs() < 1e-9 {
+            return None;
+        }
+        let distance = -(self.position[1] - plane_y) / direction[1];
+        let world = [
+            self.position[0] + distance * direction[0],
+            self.position[2] + distance * direction[2],
+        ];
+        (distance > 0.0 && world.iter().all(|v| v.is_finite())).then_some(world)
+    }
+
     /// The camera's forward axis in world.
     pub fn forward(&self) -> [f64; 3] {
         [

@@ -20,6 +20,8 @@
 //! * [`tracking`]: linking detections across frames into tracks with stable ids.
 //! * [`closer`]: a track's class decided again on windows of the frame at twice the scale.
 //! * [`distinct`]: distinct colours for the tracks of a class whose objects never share one.
+//! * [`silhouette`]: convex solids' silhouettes against masks (IoU), and the pattern search that
+//!   fits them.
 //! * [`evaluation`]: perception metrics against ground truth (mask and box AP, attribute
 //!   accuracy, identity switches).
 
@@ -39,6 +41,7 @@ pub mod frames;
 pub mod palette;
 pub mod rope;
 pub mod runtime;
+pub mod silhouette;
 pub mod tracking;
 pub mod truth;
 

@@ -9,9 +9,11 @@
 //! simulate` the cloths' properties are read from their particles ([`infer`]) and each half is
 //! simulated ([`simulate`]) on the first question about one of its boxes (`runs`); of the
 //! annotation only the boxes' sizes, shapes and start poses are read (what the first frames
-//! show). Cloth has no scene reading from pixels yet (its detector, `perception::cloth`, finds
-//! the cloths, pillars and plates, but nothing reads a scene from its detections): under
-//! `--perception maskrcnn` loading the scene fails with [`ApiError::Unavailable`] saying so.
+//! show). Under `--perception maskrcnn` the detector's masks give the pillars and plates
+//! (`perceived`: placed through the camera, named by colour and shape) and, under `--dynamics
+//! simulate`, what the cloths do (`pixels`: spawn, pull, properties, the boxes they lie on); of
+//! the annotation only the camera calibration is read (with `--dynamics annotation`, also the
+//! recorded outcomes, keyed by the names perception must read right).
 //!
 //! Objects, in this order: the two cloths (`Cloth (Left)`, `Cloth (Right)`: kind `cloth`, no
 //! colour, `side` left or right, so `left cloth`), then every pillar and plate of the left half
@@ -40,7 +42,9 @@
 
 pub mod infer;
 mod inference_bench;
+mod perceived;
 pub(crate) mod physics_bench;
+mod pixels;
 mod runs;
 pub mod simulate;
 #[cfg(test)]
@@ -50,7 +54,9 @@ use crate::dataset::Scenario;
 use crate::dataset::cloth::names::{Shape, Side, parse_box_name};
 use crate::dataset::cloth::outcome::Pose;
 use crate::dataset::cloth::{BoxRecord, ClothAnnotation, ClothProperties, VALUES, VOCABULARY};
+use crate::perception::cloth::PERCEPTION;
 use crate::physics::vector3 as v3;
+use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
@@ -66,22 +72,51 @@ const BOXES: &str = "pillar or plate";
 
 /// Loads the backend of a cloth video (the scenario table's scene backend for cloth).
 pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
-    // The backends that do not exist yet are refused before any file is read: the message is
-    // what the user must change, whatever the video holds.
-    if spec.perception != PerceptionBackend::Annotation {
-        return Err(ApiError::Unavailable(
-            "--perception maskrcnn: cloth scenes are not read from pixels yet (the cloth detector finds cloths, pillars and plates, but no scene reading uses it); cloth scenes are read from their annotations (--perception annotation)"
-                .to_string(),
-        ));
-    }
     let annotation = ClothAnnotation::load(&spec.video_dir.join("outputs.json"))?;
-    let mut backend = ClothBackend::new(annotation);
-    if spec.dynamics == DynamicsBackend::Simulate {
-        backend.runs = Some(ClothRuns::new(
-            spec.video_dir.clone(),
-            ClothModel::default(),
-        ));
+    if spec.perception == PerceptionBackend::Annotation {
+        let mut backend = ClothBackend::new(annotation);
+        if spec.dynamics == DynamicsBackend::Simulate {
+            backend.runs = Some(ClothRuns::new(
+                spec.video_dir.clone(),
+                ClothModel::default(),
+            ));
+        }
+        return Ok(Box::new(backend));
     }
+    // `--perception maskrcnn`: of the annotation only the camera calibration is read, unless
+    // the dynamics are the annotation's (whose recorded outcomes are keyed by its names).
+    let camera = calibration(annotation.camera.as_ref())?.clone();
+    let mut perceiver = Perceiver::open(
+        &spec.video_dir,
+        spec.perception_models()?,
+        PERCEPTION.classes,
+        &VOCABULARY,
+    )?;
+    let perceived = perceived::perceive_scene(&mut perceiver, &camera)?;
+    perceiver.set_names(perceived.names.clone());
+    let backend = match spec.dynamics {
+        DynamicsBackend::Simulate => {
+            let mut backend = ClothBackend::new(perceived.annotation.clone());
+            backend.unread = perceived.unknown;
+            backend.runs = Some(ClothRuns::perceived(
+                perceiver,
+                camera,
+                &perceived.annotation,
+                ClothModel::default(),
+            ));
+            backend
+        }
+        DynamicsBackend::Annotation => {
+            // The boxes perception did not read (another colour or shape, not seen) are not
+            // the annotated ones, whose outcomes are keyed by name; the cloths are always seen.
+            let mut backend = ClothBackend::new(annotation);
+            for object in &mut backend.objects {
+                object.visible =
+                    object.kind == "cloth" || perceived.annotation.find_box(&object.name).is_some();
+            }
+            backend
+        }
+    };
     Ok(Box::new(backend))
 }
 
@@ -130,6 +165,9 @@ pub(crate) struct ClothBackend {
     /// Under `--dynamics simulate`, the video's simulation (its parts made on first use);
     /// `None` answers from the annotation's records.
     runs: Option<ClothRuns>,
+    /// Under `--perception maskrcnn --dynamics simulate`, what perception could not read of
+    /// the boxes (one line each), for messages.
+    unread: Vec<String>,
 }
 
 impl ClothBackend {
@@ -186,6 +224,7 @@ impl ClothBackend {
             objects,
             roles,
             runs: None,
+            unread: Vec::new(),
         }
     }
 
@@ -210,7 +249,12 @@ impl ClothBackend {
             .filter(|object| self.role(object) == Some(Role::Box))
             .map(SceneObjectInfo::describe)
             .collect();
-        format!("the pillars and plates are: {}", names.join(", "))
+        let unread = if self.unread.is_empty() {
+            String::new()
+        } else {
+            format!(" (not read from the video: {})", self.unread.join("; "))
+        };
+        format!("the pillars and plates are: {}{unread}", names.join(", "))
     }
 
     /// The record of `object`, which must be a pillar or a plate; a message says `{function}:
@@ -401,11 +445,12 @@ impl ClothBackend {
             return Ok(Told::Recorded);
         };
         let verdict = runs.observed()?.verdict;
+        let evidence = runs.evidence();
         let more = match property {
             Property::Bending => verdict.bends,
             _ => verdict.stretches,
         };
-        Ok(more.map_or(Told::Undecided, Told::More))
+        Ok(more.map_or(Told::Undecided(evidence), Told::More))
     }
 }
 
@@ -433,8 +478,8 @@ enum Told {
     Recorded,
     /// The video shows this cloth to have more of it.
     More(Side),
-    /// The video does not tell.
-    Undecided,
+    /// The video does not tell (by what it was read from: `tracked particles`, `masks`).
+    Undecided(&'static str),
 }
 
 /// The question an action word of `happen` asks in cloth scenes.
@@ -498,8 +543,8 @@ impl ScenarioBackend for ClothBackend {
                     Told::Recorded => Ok(Some(recorded)),
                     Told::More(more) if more == side => Ok(Some(values[0])),
                     Told::More(_) => Ok(Some(values[1])),
-                    Told::Undecided => Err(ApiError::Unavailable(format!(
-                        "{function}: the video does not tell which cloth {} more: the two cloths' tracked particles measure too alike",
+                    Told::Undecided(evidence) => Err(ApiError::Unavailable(format!(
+                        "{function}: the video does not tell which cloth {} more: the two cloths' {evidence} measure too alike",
                         match property {
                             Property::Bending => "bends",
                             _ => "stretches",

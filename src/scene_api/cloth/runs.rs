@@ -4,44 +4,113 @@
 //! the cloths' properties, or about one half, simulates nothing, or one half).
 //!
 //! Input: the video folder (`outputs4D.json`) and its annotation (the boxes' sizes, shapes and
-//! start poses: what the first frames show). Output: the [`ClothVerdict`] and each half's
-//! [`HalfRun`]. Errors are kept and replayed to every later question that needs the same part.
+//! start poses: what the first frames show), or under `--perception maskrcnn` the video's
+//! frames, its camera and the perceived boxes (the cloths' masks, read by `pixels`). Output: the
+//! [`ClothVerdict`] and each half's [`HalfRun`]. Errors are kept and replayed to every later
+//! question that needs the same part.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
-use super::infer::{ClothReading, ClothVerdict, goes_through, read_cloths};
+use super::infer::{ClothVerdict, goes_through, read_cloths};
+use super::perceived::PlacedBox;
+use super::pixels;
 use super::simulate::{ClothModel, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half};
-use crate::dataset::FourDData;
 use crate::dataset::cloth::names::Side;
 use crate::dataset::cloth::{ClothAnnotation, Friction, VALUES};
+use crate::dataset::{Camera, FourDData};
+use crate::physics::vector3::Vector;
 use crate::scene_api::ApiError;
+use crate::scene_api::perceiver::{Perceiver, camera_model};
+
+/// What the video shows of one cloth that a simulation replays.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ObservedCloth {
+    /// Its particles at the spawn (a flat square grid), units.
+    pub spawn: Vec<Vector>,
+    /// How far the handle drags it, units.
+    pub pull_distance: f64,
+    /// Its tracked particles per frame, units (`None` read from pixels).
+    pub track: Option<Vec<Vec<Vector>>>,
+}
 
 /// What the video shows of the two cloths.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Observed {
     /// Left, right.
-    pub readings: [ClothReading; 2],
+    pub cloths: [ObservedCloth; 2],
     /// The properties' verdicts.
     pub verdict: ClothVerdict,
+    /// Under `--perception maskrcnn`, per half, per box of the half (the annotation's order),
+    /// whether the cloth lies on its top after the handle lets go; `None` from tracked particles.
+    pub draped: Option<[Vec<bool>; 2]>,
+}
+
+/// Where the cloths are read from.
+enum Source {
+    /// The tracked particles of the video in this folder (`--perception annotation`).
+    Tracked(PathBuf),
+    /// The video's frames through the detector, seen through the camera (`--perception
+    /// maskrcnn`), the boxes being the perceived ones.
+    Perceived {
+        perceiver: Box<Mutex<Perceiver>>,
+        camera: Camera,
+        boxes: [Vec<PlacedBox>; 2],
+    },
 }
 
 /// The lazily made parts of one video's simulation.
 pub(crate) struct ClothRuns {
-    folder: PathBuf,
+    source: Source,
     model: ClothModel,
     observed: OnceLock<Result<Observed, ApiError>>,
     halves: [OnceLock<Result<HalfRun, ApiError>>; 2],
 }
 
 impl ClothRuns {
-    /// The runs of the video in `folder`, simulated under `model`.
+    /// The runs of the video in `folder`, simulated under `model`, its cloths read from their
+    /// tracked particles.
     pub(crate) fn new(folder: PathBuf, model: ClothModel) -> ClothRuns {
+        ClothRuns::of(Source::Tracked(folder), model)
+    }
+
+    /// The runs of the video `perceiver` opened, its cloths read from their masks seen through
+    /// `camera`; `annotation` holds the perceived boxes.
+    pub(crate) fn perceived(
+        perceiver: Perceiver,
+        camera: Camera,
+        annotation: &ClothAnnotation,
+        model: ClothModel,
+    ) -> ClothRuns {
+        let boxes = Side::BOTH.map(|side| {
+            annotation
+                .objects(side)
+                .boxes()
+                .map(PlacedBox::from_record)
+                .collect()
+        });
+        let source = Source::Perceived {
+            perceiver: Box::new(Mutex::new(perceiver)),
+            camera,
+            boxes,
+        };
+        ClothRuns::of(source, model)
+    }
+
+    fn of(source: Source, model: ClothModel) -> ClothRuns {
         ClothRuns {
-            folder,
+            source,
             model,
             observed: OnceLock::new(),
             halves: [OnceLock::new(), OnceLock::new()],
+        }
+    }
+
+    /// What the cloths were read from, for messages.
+    pub(crate) fn evidence(&self) -> &'static str {
+        match self.source {
+            Source::Tracked(_) => "tracked particles",
+            Source::Perceived { .. } => "masks",
         }
     }
 
@@ -61,7 +130,17 @@ impl ClothRuns {
     /// What the video shows of the cloths (read on first use).
     pub(crate) fn observed(&self) -> Result<&Observed, ApiError> {
         self.observed
-            .get_or_init(|| observe(&self.folder))
+            .get_or_init(|| match &self.source {
+                Source::Tracked(folder) => observe(folder),
+                Source::Perceived {
+                    perceiver,
+                    camera,
+                    boxes,
+                } => {
+                    let mut perceiver = perceiver.lock().unwrap_or_else(PoisonError::into_inner);
+                    observe_pixels(&mut perceiver, camera, boxes)
+                }
+            })
             .as_ref()
             .map_err(Clone::clone)
     }
@@ -101,24 +180,83 @@ pub(crate) fn observe(folder: &Path) -> Result<Observed, ApiError> {
     })?;
     let readings = read_cloths(&four_d)?;
     let verdict = ClothVerdict::of(&readings);
-    Ok(Observed { readings, verdict })
+    Ok(Observed {
+        cloths: readings.map(|reading| ObservedCloth {
+            spawn: reading.spawn,
+            pull_distance: reading.pull_distance,
+            track: Some(reading.track),
+        }),
+        verdict,
+        draped: None,
+    })
+}
+
+/// Reads the cloths from their masks in the video `perceiver` opened, seen through `camera`,
+/// with `boxes` (per half) the perceived boxes.
+fn observe_pixels(
+    perceiver: &mut Perceiver,
+    camera: &Camera,
+    boxes: &[Vec<PlacedBox>; 2],
+) -> Result<Observed, ApiError> {
+    let (width, height, _) = perceiver.frames();
+    let model = camera_model(camera, (width, height));
+    let frames: Vec<usize> = pixels::CLOTH_FRAMES.collect();
+    let masks = pixels::seen_masks(perceiver, &model, &frames)?;
+    if masks.cloths.iter().all(Vec::is_empty) {
+        return Err(ApiError::Unavailable(
+            "--perception maskrcnn reads the cloths from their masks, and the detector found no cloth in the video".to_string(),
+        ));
+    }
+    let seen = pixels::read_cloths(&masks, boxes, &model);
+    let [left, right] = seen.spawns;
+    Ok(Observed {
+        cloths: [
+            ObservedCloth {
+                spawn: left,
+                pull_distance: pixels::MEAN_PULL,
+                track: None,
+            },
+            ObservedCloth {
+                spawn: right,
+                pull_distance: pixels::MEAN_PULL,
+                track: None,
+            },
+        ],
+        verdict: seen.verdict,
+        draped: Some(seen.draped),
+    })
 }
 
 /// `side`'s half as the video shows it: the annotation's boxes where they start (what the
-/// first frames show), each marked where the cloth never goes through its place, and the cloth read from its particles, with the properties of the
-/// verdict (where a property is not told, the mean of the release's two values).
+/// first frames show), each marked undisturbed where the tracked cloth never goes through its
+/// place (read from pixels: where the cloth lies on its top after the handle lets go), and the
+/// cloth as read, with the properties of the verdict (where a property is not told, the mean of
+/// the release's two values).
 pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Observed) -> SeenHalf {
     let reading = match side {
-        Side::Left => &observed.readings[0],
-        Side::Right => &observed.readings[1],
+        Side::Left => &observed.cloths[0],
+        Side::Right => &observed.cloths[1],
     };
+    let index = usize::from(side == Side::Right);
+    let draped = observed
+        .draped
+        .as_ref()
+        .and_then(|draped| draped.get(index));
     let boxes = annotation
         .objects(side)
         .boxes()
-        .map(|record| {
+        .enumerate()
+        .map(|(at, record)| {
             let mut seen = SeenBox::from_record(record, None);
-            seen.undisturbed =
-                !goes_through(&reading.track, seen.position, seen.orientation, seen.size);
+            // From the tracked cloth: undisturbed where its path never goes through the box's
+            // place. From pixels: where the cloth lies on its top after the handle lets go.
+            seen.undisturbed = match &reading.track {
+                Some(track) => !goes_through(track, seen.position, seen.orientation, seen.size),
+                None => draped
+                    .and_then(|flags| flags.get(at))
+                    .copied()
+                    .unwrap_or(false),
+            };
             seen
         })
         .collect();

@@ -284,16 +284,32 @@ fn misuse_names_the_object_and_what_is_allowed() {
 }
 
 #[test]
-fn perception_cloth_does_not_have_yet_says_so_and_simulate_needs_the_tracked_particles() {
-    let pixels = open(PerceptionBackend::MaskRcnn, DynamicsBackend::Annotation);
+fn pixels_need_the_camera_and_the_models_and_simulate_needs_the_tracked_particles() {
+    // The hand-written fixture has a camera but no frames; the test's scenes have no models.
+    let pixels = open(PerceptionBackend::MaskRcnn, DynamicsBackend::Simulate);
     let error = pixels.find("green plate").unwrap_err();
     assert_eq!(error.kind(), "unavailable");
-    assert!(
-        error
-            .to_string()
-            .starts_with("--perception maskrcnn: cloth scenes are not read from pixels yet"),
-        "{error}"
+    insta::assert_snapshot!("maskrcnn_without_models", error.to_string());
+    // Without its camera record, a video cannot be read from pixels.
+    let folder = tempfile::tempdir().unwrap();
+    let mut outputs: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(fixture_dir().join("outputs.json")).unwrap()).unwrap();
+    outputs["outputCamera"] = serde_json::json!({});
+    fs_err::write(
+        folder.path().join("outputs.json"),
+        serde_json::to_vec(&outputs).unwrap(),
+    )
+    .unwrap();
+    let no_camera = open_scene(
+        Scenario::Cloth,
+        folder.path().to_path_buf(),
+        (&VOCABULARY, load),
+        PerceptionBackend::MaskRcnn,
+        DynamicsBackend::Simulate,
     );
+    let error = no_camera.find("green plate").unwrap_err();
+    assert_eq!(error.kind(), "unavailable");
+    insta::assert_snapshot!("maskrcnn_without_camera", error.to_string());
     // The hand-written fixture has no outputs4D.json: the objects come from the annotation, and
     // the first question that needs the cloths says what is missing.
     let simulate = open(PerceptionBackend::Annotation, DynamicsBackend::Simulate);
