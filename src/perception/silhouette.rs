@@ -38,6 +38,17 @@ pub fn convex_hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     hull
 }
 
+/// The area of the simple `polygon` (shoelace formula), whichever way it turns.
+pub fn polygon_area(polygon: &[[f64; 2]]) -> f64 {
+    let twice: f64 = (0..polygon.len())
+        .map(|i| {
+            let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum();
+    twice.abs() / 2.0
+}
+
 /// Whether `point` is inside the counter-clockwise convex `polygon`.
 pub fn inside(polygon: &[[f64; 2]], point: [f64; 2]) -> bool {
     polygon.len() >= 3
@@ -169,6 +180,11 @@ mod tests {
             [0.0, 4.0],
         ]);
         assert_eq!(hull.len(), 4);
+        // 4 × 4 either way round; a triangle of base 4 and height 2.
+        assert!((polygon_area(&hull) - 16.0).abs() < 1e-12);
+        let reversed: Vec<_> = hull.iter().rev().copied().collect();
+        assert!((polygon_area(&reversed) - 16.0).abs() < 1e-12);
+        assert!((polygon_area(&[[0.0, 0.0], [4.0, 0.0], [2.0, 2.0]]) - 4.0).abs() < 1e-12);
         assert!(inside(&hull, [1.0, 3.0]));
         assert!(!inside(&hull, [5.0, 1.0]));
         let mask = InstanceMask::from_predicate(8, 8, |x, y| x < 4 && y < 4);

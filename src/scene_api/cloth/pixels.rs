@@ -39,7 +39,7 @@
 use crate::dataset::cloth::names::Side;
 use crate::perception::camera::CameraModel;
 use crate::perception::detection::InstanceMask;
-use crate::perception::silhouette::{convex_hull, inside};
+use crate::perception::silhouette::{convex_hull, inside, polygon_area};
 use crate::physics::vector3::Vector;
 use crate::scene_api::ApiError;
 use crate::scene_api::perceiver::Perceiver;
@@ -174,15 +174,7 @@ fn solidity(mask: &InstanceMask) -> Option<f64> {
             }
         }
     }
-    let hull = convex_hull(corners);
-    let hull_area = (0..hull.len())
-        .map(|i| {
-            let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        .abs()
-        / 2.0;
+    let hull_area = polygon_area(&convex_hull(corners));
     (hull_area > 0.0).then(|| mask.area() as f64 / hull_area)
 }
 
@@ -410,7 +402,6 @@ mod tests {
     use super::*;
     use crate::dataset::cloth::{ClothAnnotation, VOCABULARY};
     use crate::perception::cloth::PERCEPTION;
-    use crate::perception::silhouette::convex_hull;
     use crate::scene_api::PerceptionModels;
     use crate::scene_api::cloth::perceived::perceive_scene;
     use crate::scene_api::perceiver::camera_model;
@@ -442,15 +433,7 @@ mod tests {
                 }
             }
         }
-        let hull = convex_hull(corners);
-        let hull_area = (0..hull.len())
-            .map(|i| {
-                let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
-                a[0] * b[1] - b[0] * a[1]
-            })
-            .sum::<f64>()
-            .abs()
-            / 2.0;
+        let hull_area = polygon_area(&convex_hull(corners));
         let bottom: Vec<f64> = (x0..=x1)
             .filter(|x| mask.contains(*x, y1))
             .map(|x| f64::from(x) + 0.5)
