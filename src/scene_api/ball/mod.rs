@@ -54,7 +54,8 @@ use crate::perception::ball::PERCEPTION;
 use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
-    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, named_nothing, resolve_description,
+    unknown_action,
 };
 
 /// The vocabulary attribute that tells the pits apart.
@@ -88,12 +89,14 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
             let mut backend = BallBackend::new(perceived.annotation);
             backend.simulate_from = Some(spec.video_dir.clone());
             backend.perceiver = Some(Mutex::new(perceiver));
+            backend.from_pixels = true;
             backend
         }
         DynamicsBackend::Annotation => {
             // The objects perception did not read (a ball or wall in another colour, a ramp
             // not seen) are not the annotated ones, whose outcomes are keyed by name.
             let mut backend = BallBackend::new(annotation);
+            backend.from_pixels = true;
             let seen = BallBackend::new(perceived.annotation);
             for object in &mut backend.objects {
                 object.visible = object.kind == "pit"
@@ -134,6 +137,9 @@ pub(crate) struct BallBackend {
     /// The video as the detector sees it (`--perception maskrcnn --dynamics simulate`): the
     /// balls' paths are read from its masks instead of the tracked particles.
     perceiver: Option<Mutex<Perceiver>>,
+    /// Whether the objects were read from pixels (`--perception maskrcnn`): a name no object
+    /// carries may then be a perception miss (`not_seen`) rather than the program's misuse.
+    from_pixels: bool,
 }
 
 /// The run an event starts.
@@ -211,6 +217,7 @@ impl BallBackend {
             simulate_from: None,
             runs: OnceLock::new(),
             perceiver: None,
+            from_pixels: false,
         }
     }
 
@@ -359,10 +366,13 @@ impl BallBackend {
                     )))
                 }
             }
-            [] => Err(misuse(format!(
-                "{function}: {what} names no {kind} (an empty list: `find` found no such object); {}",
-                self.names_of_kind(kind)
-            ))),
+            [] => Err(named_nothing(
+                format!(
+                    "{function}: {what} names no {kind} (an empty list: `find` found no such object); {}",
+                    self.names_of_kind(kind)
+                ),
+                self.from_pixels,
+            )),
             many => Err(misuse(format!(
                 "{function}: {what} takes one {kind}, got {} objects",
                 many.len()

@@ -207,3 +207,27 @@ fn simulate_reads_the_tracked_particles_only_when_a_question_needs_them() {
     );
     assert_eq!(simulate.work().sim_runs, 0);
 }
+
+#[test]
+fn an_empty_list_from_pixels_is_a_perception_miss() {
+    // `find` gives an empty list for a wall no object carries: under annotation perception the
+    // program named something the scene lacks (misuse); under `--perception maskrcnn` the
+    // detector may have missed the wall or read it in another colour (`not_seen`).
+    let annotation = BallAnnotation::load(&fixture_dir().join("outputs.json")).unwrap();
+    let mut backend = BallBackend::new(annotation);
+    let error = backend
+        .one_of_kind(&[], "floating wall", "register_event", "'remove'")
+        .unwrap_err();
+    assert_eq!(error.kind(), "misuse");
+    backend.from_pixels = true;
+    let error = backend
+        .one_of_kind(&[], "floating wall", "register_event", "'remove'")
+        .unwrap_err();
+    assert_eq!(error.kind(), "not_seen");
+    assert!(
+        error.to_string().starts_with(
+            "register_event: 'remove' names no floating wall (an empty list: `find` found no such object); the floating walls are: "
+        ),
+        "{error}"
+    );
+}

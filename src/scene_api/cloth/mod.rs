@@ -59,7 +59,8 @@ use crate::physics::vector3 as v3;
 use crate::scene_api::perceiver::{Perceiver, calibration};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
-    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, resolve_description, unknown_action,
+    SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, named_nothing, resolve_description,
+    unknown_action,
 };
 pub use inference_bench::inference_report;
 use runs::ClothRuns;
@@ -98,6 +99,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
         DynamicsBackend::Simulate => {
             let mut backend = ClothBackend::new(perceived.annotation.clone());
             backend.unread = perceived.unknown;
+            backend.from_pixels = true;
             backend.runs = Some(ClothRuns::perceived(
                 perceiver,
                 camera,
@@ -110,6 +112,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
             // The boxes perception did not read (another colour or shape, not seen) are not
             // the annotated ones, whose outcomes are keyed by name; the cloths are always seen.
             let mut backend = ClothBackend::new(annotation);
+            backend.from_pixels = true;
             for object in &mut backend.objects {
                 object.visible =
                     object.kind == "cloth" || perceived.annotation.find_box(&object.name).is_some();
@@ -168,6 +171,9 @@ pub(crate) struct ClothBackend {
     /// Under `--perception maskrcnn --dynamics simulate`, what perception could not read of
     /// the boxes (one line each), for messages.
     unread: Vec<String>,
+    /// Whether the objects were read from pixels (`--perception maskrcnn`): a name no object
+    /// carries may then be a perception miss (`not_seen`) rather than the program's misuse.
+    from_pixels: bool,
 }
 
 impl ClothBackend {
@@ -225,6 +231,7 @@ impl ClothBackend {
             roles,
             runs: None,
             unread: Vec::new(),
+            from_pixels: false,
         }
     }
 
@@ -323,21 +330,27 @@ impl ClothBackend {
                     "happen",
                 )?;
                 if found.is_empty() {
-                    return Err(misuse(format!(
-                        "happen: the target `{}` of '{word}' names no object of this scene; {}",
-                        text.trim(),
-                        self.box_names()
-                    )));
+                    return Err(named_nothing(
+                        format!(
+                            "happen: the target `{}` of '{word}' names no object of this scene; {}",
+                            text.trim(),
+                            self.box_names()
+                        ),
+                        self.from_pixels,
+                    ));
                 }
                 found
             }
         };
         match ids.as_slice() {
             [one] => self.info(*one, "happen"),
-            [] => Err(misuse(format!(
-                "happen: the target of '{word}' names no {BOXES} (an empty list: `find` found no such object); {}",
-                self.box_names()
-            ))),
+            [] => Err(named_nothing(
+                format!(
+                    "happen: the target of '{word}' names no {BOXES} (an empty list: `find` found no such object); {}",
+                    self.box_names()
+                ),
+                self.from_pixels,
+            )),
             many => Err(misuse(format!(
                 "happen: the target of '{word}' is one {BOXES}, got {} objects",
                 many.len()

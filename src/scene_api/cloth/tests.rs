@@ -271,8 +271,10 @@ fn misuse_names_the_object_and_what_is_allowed() {
         "happen: the target `purple plate` of 'collision' names no object of this scene; the pillars and plates are: green plate, gray pillar, blue plate, yellow pillar, orange plate, green pillar"
     );
     let unknown = scene.happen(&event, &[plate], "collision", &Target::Objects(Vec::new()));
+    let unknown = unknown.unwrap_err();
+    assert_eq!(unknown.kind(), "misuse");
     assert!(
-        message(unknown).starts_with(
+        unknown.to_string().starts_with(
             "happen: the target of 'collision' names no pillar or plate (an empty list"
         ),
     );
@@ -281,6 +283,43 @@ fn misuse_names_the_object_and_what_is_allowed() {
         message(removal),
         "register_event: cloth scenes support register_event([], 'simulate', '') only: their questions predict the video's own future"
     );
+}
+
+#[test]
+fn a_target_named_nothing_from_pixels_is_a_perception_miss() {
+    // Under `--perception maskrcnn` a target box `find` found nothing for may be one the
+    // detector missed or read in another colour: `not_seen`, not the program's misuse.
+    let annotation = ClothAnnotation::load(&fixture_dir().join("outputs.json")).unwrap();
+    let mut backend = ClothBackend::new(annotation);
+    backend.from_pixels = true;
+    let plate = backend
+        .objects
+        .iter()
+        .position(|object| object.color == "green" && object.kind == "plate")
+        .and_then(|index| u32::try_from(index).ok())
+        .map(ObjectId)
+        .unwrap();
+    let event = SceneEvent {
+        action: EventAction::Simulate,
+        object: None,
+        attribute: String::new(),
+        attribute_objects: Vec::new(),
+    };
+    for target in [
+        Target::Objects(Vec::new()),
+        Target::Text("purple plate".into()),
+    ] {
+        let error = backend
+            .happen(&event, plate, "touching", &target)
+            .unwrap_err();
+        assert_eq!(error.kind(), "not_seen", "{target:?}");
+        assert!(
+            error.to_string().ends_with(
+                "perception from pixels may have missed the object or read it in another colour"
+            ),
+            "{error}"
+        );
+    }
 }
 
 #[test]
