@@ -18,6 +18,8 @@
 //! Sampling edges instead of clipping faces finds edge-on-edge contacts only to within the
 //! sample spacing; the scene's boxes are a few metres large and sampled every quarter edge.
 
+use std::collections::BTreeSet;
+
 use super::rigid::BoxBody;
 use super::sheet::Sheet;
 use crate::physics::vector3::{self as v3, Vector};
@@ -170,6 +172,39 @@ pub(super) fn find_rigid_contacts(
         }
     }
     found
+}
+
+/// The pairs of boxes (lower index first) within `tolerance` of each other: a sample point of
+/// one lies inside the other box grown by `tolerance` along each of its axes. A geometric reading
+/// of "in contact", unlike a contact's multiplier, which is positive only in the substeps where
+/// the pair penetrates and so flickers for a box resting on another (measured at 50 substeps:
+/// a resting pair active in 6 to 31 of the last 40 updates).
+pub(super) fn box_pairs_within(
+    boxes: &[BoxBody],
+    samples: &[Vec<Vector>],
+    tolerance: f64,
+) -> BTreeSet<(usize, usize)> {
+    let mut pairs = BTreeSet::new();
+    for (body, (subject, points)) in boxes.iter().zip(samples).enumerate() {
+        for (other, target) in boxes.iter().enumerate() {
+            let pair = (body.min(other), body.max(other));
+            if other == body || pairs.contains(&pair) {
+                continue;
+            }
+            let reach = v3::norm(subject.half_extents) + v3::norm(target.half_extents) + tolerance;
+            if v3::norm(v3::sub(subject.position, target.position)) >= reach {
+                continue;
+            }
+            let within = points.iter().any(|&local| {
+                let point = target.to_local(subject.to_world(local));
+                (0..3).all(|axis| point[axis].abs() - target.half_extents[axis] <= tolerance)
+            });
+            if within {
+                pairs.insert(pair);
+            }
+        }
+    }
+    pairs
 }
 
 /// Whether two boxes' bounding spheres (plus the margin) overlap.

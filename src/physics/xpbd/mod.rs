@@ -272,6 +272,13 @@ impl World {
         &self.boxes
     }
 
+    /// The pairs of boxes (lower index first) whose surfaces are within `tolerance` metres of
+    /// each other now (see [`contact::box_pairs_within`]): the steady reading of which boxes
+    /// touch, where [`UpdateContacts::box_pairs`] lists the pairs a contact pushed apart.
+    pub fn box_pairs_within(&self, tolerance: f64) -> BTreeSet<(usize, usize)> {
+        contact::box_pairs_within(&self.boxes, &self.samples, tolerance)
+    }
+
     /// Updates done so far.
     pub fn updates(&self) -> usize {
         self.updates

@@ -491,3 +491,58 @@ fn a_dragged_cloth_scene_has_a_golden_hash() {
         "4e2be7f59c4e99c9bca3b0b1036252419dfb98e56684dafa456532fadb59af4b"
     );
 }
+
+#[test]
+fn boxes_within_a_tolerance_touch_steadily_where_contacts_flicker() {
+    // Side by side on the table, 5 mm and 30 mm apart: within 10 mm only the first pair.
+    let mut world = World::new(settings()).unwrap();
+    for x in [0.0, 1.005, 2.035] {
+        world
+            .add_box(BoxBody::new(
+                [0.5, 0.5, 0.5],
+                3.0,
+                [x, 0.5, 0.0],
+                NO_ROTATION,
+            ))
+            .unwrap();
+    }
+    assert_eq!(
+        world.box_pairs_within(0.01),
+        std::collections::BTreeSet::from([(0, 1)])
+    );
+    assert!(world.box_pairs_within(0.001).is_empty());
+    // A box resting on another at the fine reference's 50 substeps: it touches at every
+    // update, though its contact's multiplier is positive only in the substeps it penetrates.
+    let mut world = World::new(XpbdSettings {
+        substeps: 50,
+        iterations: 4,
+        ..settings()
+    })
+    .unwrap();
+    world
+        .add_box(BoxBody::new(
+            [0.5, 0.5, 0.5],
+            99999.0,
+            [0.0, 0.5, 0.0],
+            NO_ROTATION,
+        ))
+        .unwrap();
+    world
+        .add_box(BoxBody::new(
+            [0.3, 0.2, 0.3],
+            2.0,
+            [0.1, 1.2, 0.0],
+            NO_ROTATION,
+        ))
+        .unwrap();
+    run(&mut world, 60);
+    for _ in 0..20 {
+        world.step().unwrap();
+        assert_eq!(
+            world.box_pairs_within(0.01),
+            std::collections::BTreeSet::from([(0, 1)])
+        );
+    }
+    let top = world.boxes()[1].position;
+    assert!((top[1] - 1.2).abs() < 0.01, "{top:?}");
+}
