@@ -506,10 +506,7 @@ fn boxes_within_a_tolerance_touch_steadily_where_contacts_flicker() {
             ))
             .unwrap();
     }
-    assert_eq!(
-        world.box_pairs_within(0.01),
-        std::collections::BTreeSet::from([(0, 1)])
-    );
+    assert_eq!(world.box_pairs_within(0.01), BTreeSet::from([(0, 1)]));
     assert!(world.box_pairs_within(0.001).is_empty());
     // A box resting on another at the fine reference's 50 substeps: it touches at every
     // update, though its contact's multiplier is positive only in the substeps it penetrates.
@@ -538,10 +535,7 @@ fn boxes_within_a_tolerance_touch_steadily_where_contacts_flicker() {
     run(&mut world, 60);
     for _ in 0..20 {
         world.step().unwrap();
-        assert_eq!(
-            world.box_pairs_within(0.01),
-            std::collections::BTreeSet::from([(0, 1)])
-        );
+        assert_eq!(world.box_pairs_within(0.01), BTreeSet::from([(0, 1)]));
     }
     let top = world.boxes()[1].position;
     assert!((top[1] - 1.2).abs() < 0.01, "{top:?}");

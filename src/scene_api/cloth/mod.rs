@@ -103,7 +103,6 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
             backend.runs = Some(ClothRuns::perceived(
                 perceiver,
                 camera,
-                &perceived.annotation,
                 ClothModel::default(),
             ));
             backend

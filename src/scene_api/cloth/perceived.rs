@@ -78,7 +78,8 @@ pub(crate) struct PlacedBox {
 }
 
 impl PlacedBox {
-    /// The box of an annotation's record where it starts.
+    /// The box of an annotation's record where it starts (the measuring test's boxes).
+    #[cfg(test)]
     pub(crate) fn from_record(record: &BoxRecord) -> PlacedBox {
         PlacedBox {
             footprint: [record.start_position[0], record.start_position[2]],
