@@ -60,8 +60,9 @@ pub enum BenchCommand {
         /// CFL numbers of the substep to sweep (comma-separated; ball).
         #[arg(long = "cfl", value_name = "C,...", value_delimiter = ',')]
         cfl: Option<Vec<f64>>,
-        /// Shifts of every ball's start along x to sweep, scene units (comma-separated; ball: a
-        /// shift at the reference's resolution measures the runs' chaos).
+        /// Shifts of every ball's start (ball) or the cloth's spawn (cloth) along x to sweep,
+        /// scene units (comma-separated; a shift at the reference's setting measures the runs'
+        /// chaos).
         #[arg(
             long = "start-shift",
             value_name = "UNITS,...",
