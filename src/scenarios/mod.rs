@@ -120,6 +120,7 @@ static TABLE: [ScenarioParts; 4] = [
         writer: Some(&builtin::cloth::WRITER),
         scene: Some(scene_api::cloth::load),
         perception: Some(&perception::cloth::PERCEPTION),
+        reading_check: Some(scene_api::cloth::scene_report),
         inference_bench: Some(scene_api::cloth::inference_report),
         physics_bench: Some(&scene_api::cloth::physics_bench::BENCH),
         ..ScenarioParts::words_only(Scenario::Cloth, &dataset::cloth::VOCABULARY)

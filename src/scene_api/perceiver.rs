@@ -567,6 +567,36 @@ impl KindCheck {
     }
 }
 
+/// Readings of one kind of answer: right, wrong, and "cannot tell" (the scenarios' reading
+/// checks, `bench perception`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub(crate) struct Tally {
+    /// Read as annotated.
+    pub right: usize,
+    /// Read otherwise.
+    pub wrong: usize,
+    /// Not read.
+    pub undecided: usize,
+}
+
+impl Tally {
+    /// Counts one reading `read` of a thing annotated `annotated`.
+    pub(crate) fn count<T: PartialEq + Copy>(&mut self, read: Option<T>, annotated: T) {
+        match read {
+            Some(read) if read == annotated => self.right += 1,
+            Some(_) => self.wrong += 1,
+            None => self.undecided += 1,
+        }
+    }
+
+    /// Adds `other`'s counts.
+    pub(crate) fn add(&mut self, other: Tally) {
+        self.right += other.right;
+        self.wrong += other.wrong;
+        self.undecided += other.undecided;
+    }
+}
+
 /// What a perfect detector finds: a video's segmentation truth on `frames` as detections, each
 /// coloured by its name (for the scene readers' tests).
 #[cfg(test)]

@@ -29,34 +29,7 @@ use crate::scene_api::{ApiError, PerceptionModels};
 /// slab is 0.2 thick, and a ball 1 across.
 pub(crate) const MATCH_RADIUS: f64 = 0.2;
 
-pub(crate) use crate::scene_api::perceiver::KindCheck;
-
-/// Readings of one kind of answer: right, wrong, and "cannot tell".
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub(crate) struct Tally {
-    /// Read as annotated.
-    pub right: usize,
-    /// Read otherwise.
-    pub wrong: usize,
-    /// Not read.
-    pub undecided: usize,
-}
-
-impl Tally {
-    fn count<T: PartialEq + Copy>(&mut self, read: Option<T>, annotated: T) {
-        match read {
-            Some(read) if read == annotated => self.right += 1,
-            Some(_) => self.wrong += 1,
-            None => self.undecided += 1,
-        }
-    }
-
-    fn add(&mut self, other: Tally) {
-        self.right += other.right;
-        self.wrong += other.wrong;
-        self.undecided += other.undecided;
-    }
-}
+pub(crate) use crate::scene_api::perceiver::{KindCheck, Tally};
 
 /// One video's reading.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]

@@ -20,10 +20,10 @@ use crate::util::{derive_seed, seeded_rng, standard_normal};
 
 /// A property the bench scores: its name, the verdict's side, and the annotated side with more
 /// of it (friction: the high-friction cloth).
-struct Scored {
-    name: &'static str,
-    told: Option<Side>,
-    truth: Side,
+pub(super) struct Scored {
+    pub(super) name: &'static str,
+    pub(super) told: Option<Side>,
+    pub(super) truth: Side,
 }
 
 /// The report (see the module's doc).
@@ -153,7 +153,7 @@ impl BoxCounts {
 const IMMOVABLE: f64 = 99998.0;
 
 /// Each property's verdict next to the annotation's cloth with more of it.
-fn scored(annotation: &ClothAnnotation, verdict: ClothVerdict) -> Vec<Scored> {
+pub(super) fn scored(annotation: &ClothAnnotation, verdict: ClothVerdict) -> Vec<Scored> {
     let high_friction = if annotation.cloth(Side::Left).friction == Friction::High {
         Side::Left
     } else {

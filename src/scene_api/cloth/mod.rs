@@ -45,6 +45,7 @@ mod inference_bench;
 mod perceived;
 pub(crate) mod physics_bench;
 mod pixels;
+mod reading_check;
 mod runs;
 pub mod simulate;
 #[cfg(test)]
@@ -63,6 +64,7 @@ use crate::scene_api::{
     unknown_action,
 };
 pub use inference_bench::inference_report;
+pub use reading_check::scene_report;
 use runs::ClothRuns;
 use simulate::{ClothModel, HalfRun};
 
