@@ -273,8 +273,9 @@ impl World {
     }
 
     /// The pairs of boxes (lower index first) whose surfaces are within `tolerance` metres of
-    /// each other now (see [`contact::box_pairs_within`]): the steady reading of which boxes
-    /// touch, where [`UpdateContacts::box_pairs`] lists the pairs a contact pushed apart.
+    /// each other now (a sample point of one inside the other grown by `tolerance`): the steady
+    /// reading of which boxes touch, where [`UpdateContacts::box_pairs`] lists the pairs a
+    /// contact pushed apart, which flickers for a box resting on another.
     pub fn box_pairs_within(&self, tolerance: f64) -> BTreeSet<(usize, usize)> {
         contact::box_pairs_within(&self.boxes, &self.samples, tolerance)
     }
