@@ -11,7 +11,7 @@
 //! annotation only the boxes' sizes, shapes and start poses are read (what the first frames
 //! show). Under `--perception maskrcnn` the detector's masks give the pillars and plates
 //! (`perceived`: placed through the camera, named by colour and shape) and, under `--dynamics
-//! simulate`, what the cloths do (`pixels`: spawn, pull, properties, the boxes they lie on); of
+//! simulate`, what the cloths do (`pixels`: spawn, pull, properties; every box movable); of
 //! the annotation only the camera calibration is read (with `--dynamics annotation`, also the
 //! recorded outcomes, keyed by the names perception must read right).
 //!
