@@ -29,6 +29,9 @@ use crate::scene_api::{ApiError, PerceptionModels};
 /// place: under the narrowest side of any box (a pillar's 0.45).
 pub(crate) const MATCH_RADIUS: f64 = 0.3;
 
+/// The properties the cloth questions ask about (the factual families).
+const ASKED: [&str; 2] = ["elasticity", "bending"];
+
 /// One video's reading.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 struct SceneCheck {
@@ -51,15 +54,17 @@ struct SceneCheck {
 }
 
 impl SceneCheck {
-    /// Whether every box was read right, nothing else was read, and every property told right.
+    /// Whether every box was read right, nothing else was read, and the properties questions ask
+    /// about (elasticity and bending; friction only feeds the simulation) were told right.
     fn entire(&self) -> bool {
         [self.pillars, self.plates]
             .iter()
             .all(|kind| kind.right == kind.annotated && kind.wrong == 0)
-            && self
-                .properties
-                .iter()
-                .all(|(_, tally)| tally.wrong == 0 && tally.undecided == 0)
+            && ASKED.iter().all(|asked| {
+                self.properties.iter().any(|(name, tally)| {
+                    name == asked && tally.right > 0 && tally.wrong == 0 && tally.undecided == 0
+                })
+            })
     }
 
     fn add(&mut self, other: &SceneCheck) {
@@ -239,6 +244,19 @@ mod tests {
         );
         assert!(check.footprint_errors.iter().all(|e| *e == 0.0));
         assert!(check.misread.is_empty());
+        // Every box right; the video is read entirely once both asked properties are told
+        // right, whatever the friction.
+        let told = |right, undecided| Tally {
+            right,
+            wrong: 0,
+            undecided,
+        };
+        check.properties = vec![("elasticity", told(1, 0)), ("friction", told(0, 1))];
+        assert!(!check.entire());
+        check.properties.push(("bending", told(1, 0)));
+        assert!(check.entire());
+        check.properties[0].1 = told(0, 1);
+        assert!(!check.entire());
 
         // Left: one box 0.5 units off, one turned half round less a degree (the same box, 1°
         // off). Right: one box read in another colour.
