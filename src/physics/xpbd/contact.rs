@@ -178,7 +178,7 @@ pub(super) fn find_rigid_contacts(
 /// one lies inside the other box grown by `tolerance` along each of its axes. A geometric reading
 /// of "in contact", unlike a contact's multiplier, which is positive only in the substeps where
 /// the pair penetrates and so flickers for a box resting on another (measured at 50 substeps:
-/// a resting pair active in 6 to 31 of the last 40 updates).
+/// a resting pair active in 1 to 31 of the last 40 updates).
 pub(super) fn box_pairs_within(
     boxes: &[BoxBody],
     samples: &[Vec<Vector>],
