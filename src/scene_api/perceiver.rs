@@ -567,6 +567,35 @@ impl KindCheck {
     }
 }
 
+/// One video's scene read from pixels against its annotation, summable over videos (the
+/// scenarios' reading checks, `bench perception`).
+pub(crate) trait VideoReading: Default + serde::Serialize {
+    /// Adds `other`'s counts and errors.
+    fn add(&mut self, other: &Self);
+    /// Whether the video was read entirely right.
+    fn entire(&self) -> bool;
+}
+
+/// The readings of `videos`, each by `check` on its folder: their sum, each video's reading as
+/// JSON (`{"video", "check"}`), and how many were read entirely. A video that cannot be read
+/// fails the whole check, named.
+pub(crate) fn check_videos<R: VideoReading>(
+    videos: &[crate::dataset::VideoFolder],
+    check: impl Fn(&Path) -> Result<R, ApiError>,
+) -> Result<(R, Vec<serde_json::Value>, usize), ApiError> {
+    let mut total = R::default();
+    let mut per_video = Vec::with_capacity(videos.len());
+    let mut entire = 0;
+    for video in videos {
+        let reading = check(&video.dir)
+            .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
+        total.add(&reading);
+        entire += usize::from(reading.entire());
+        per_video.push(serde_json::json!({"video": video.id.0, "check": reading}));
+    }
+    Ok((total, per_video, entire))
+}
+
 /// Readings of one kind of answer: right, wrong, and "cannot tell" (the scenarios' reading
 /// checks, `bench perception`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]

@@ -156,7 +156,7 @@ pub(super) fn find_rigid_contacts(
                 });
             }
             for (other, target) in boxes.iter().enumerate() {
-                if other == body || !near(subject, target) {
+                if other == body || !near(subject, target, DETECTION_MARGIN) {
                     continue;
                 }
                 if let Some((face_point, normal)) = face_contact(target, world) {
@@ -191,8 +191,7 @@ pub(super) fn box_pairs_within(
             if other == body || pairs.contains(&pair) {
                 continue;
             }
-            let reach = v3::norm(subject.half_extents) + v3::norm(target.half_extents) + tolerance;
-            if v3::norm(v3::sub(subject.position, target.position)) >= reach {
+            if !near(subject, target, tolerance) {
                 continue;
             }
             let within = points.iter().any(|&local| {
@@ -207,9 +206,9 @@ pub(super) fn box_pairs_within(
     pairs
 }
 
-/// Whether two boxes' bounding spheres (plus the margin) overlap.
-fn near(a: &BoxBody, b: &BoxBody) -> bool {
-    let reach = v3::norm(a.half_extents) + v3::norm(b.half_extents) + DETECTION_MARGIN;
+/// Whether two boxes' bounding spheres, grown by `margin`, overlap.
+fn near(a: &BoxBody, b: &BoxBody, margin: f64) -> bool {
+    let reach = v3::norm(a.half_extents) + v3::norm(b.half_extents) + margin;
     v3::norm(v3::sub(a.position, b.position)) < reach
 }
 

@@ -30,6 +30,7 @@ use crate::scene_api::{ApiError, PerceptionModels};
 pub(crate) const MATCH_RADIUS: f64 = 0.2;
 
 pub(crate) use crate::scene_api::perceiver::{KindCheck, Tally};
+use crate::scene_api::perceiver::{VideoReading, check_videos};
 
 /// One video's reading.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -61,9 +62,9 @@ pub(crate) struct SceneCheck {
     pub misread: Vec<String>,
 }
 
-impl SceneCheck {
+impl VideoReading for SceneCheck {
     /// Whether every object was read right and nothing else was read.
-    pub(crate) fn entire(&self) -> bool {
+    fn entire(&self) -> bool {
         [
             self.ramps,
             self.floor_pieces,
@@ -97,16 +98,8 @@ pub fn scene_report(
     videos: &[VideoFolder],
     models: &PerceptionModels,
 ) -> Result<serde_json::Value, ApiError> {
-    let mut total = SceneCheck::default();
-    let mut per_video = Vec::new();
-    let mut entire = 0;
-    for video in videos {
-        let check = check_scene(&video.dir, models)
-            .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
-        total.add(&check);
-        entire += usize::from(check.entire());
-        per_video.push(json!({"video": video.id.0, "check": check}));
-    }
+    let (total, per_video, entire) =
+        check_videos(videos, |video_dir| check_scene(video_dir, models))?;
     Ok(json!({
         "match_radius_units": MATCH_RADIUS,
         "ramps": total.ramps,

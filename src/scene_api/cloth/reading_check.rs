@@ -15,6 +15,7 @@ use std::path::Path;
 use serde::Serialize;
 use serde_json::json;
 
+use super::infer::percentile;
 use super::inference_bench::scored;
 use super::perceived::perceive_scene;
 use super::pixels::{CLOTH_FRAMES, read_cloths, seen_masks};
@@ -22,7 +23,9 @@ use crate::dataset::VideoFolder;
 use crate::dataset::cloth::names::{Shape, Side};
 use crate::dataset::cloth::{ClothAnnotation, VOCABULARY};
 use crate::perception::cloth::PERCEPTION;
-use crate::scene_api::perceiver::{KindCheck, Perceiver, Tally, calibration, camera_model};
+use crate::scene_api::perceiver::{
+    KindCheck, Perceiver, Tally, VideoReading, calibration, camera_model, check_videos,
+};
 use crate::scene_api::{ApiError, PerceptionModels};
 
 /// A box whose footprint's centre lies within this of the annotated one (units) is in the right
@@ -53,7 +56,7 @@ struct SceneCheck {
     misread: Vec<String>,
 }
 
-impl SceneCheck {
+impl VideoReading for SceneCheck {
     /// Whether every box was read right, nothing else was read, and the properties questions ask
     /// about (elasticity and bending; friction only feeds the simulation) were told right.
     fn entire(&self) -> bool {
@@ -86,16 +89,8 @@ pub fn scene_report(
     videos: &[VideoFolder],
     models: &PerceptionModels,
 ) -> Result<serde_json::Value, ApiError> {
-    let mut total = SceneCheck::default();
-    let mut per_video = Vec::new();
-    let mut entire = 0;
-    for video in videos {
-        let check = check_scene(&video.dir, models)
-            .map_err(|error| ApiError::Data(format!("video {}: {error}", video.dir.display())))?;
-        total.add(&check);
-        entire += usize::from(check.entire());
-        per_video.push(json!({"video": video.id.0, "check": check}));
-    }
+    let (total, per_video, entire) =
+        check_videos(videos, |video_dir| check_scene(video_dir, models))?;
     Ok(json!({
         "match_radius_units": MATCH_RADIUS,
         "pillars": total.pillars,
@@ -108,23 +103,18 @@ pub fn scene_report(
     }))
 }
 
-/// The median and 90th percentile of `values` (nearest rank), `null` when there are none.
+/// The median and 90th percentile of `values` (`infer::percentile`'s nearest rank; non-finite
+/// values left out), `null` when there are none.
 fn spread(values: &[f64]) -> serde_json::Value {
-    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    if sorted.is_empty() {
+    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
         return serde_json::Value::Null;
     }
-    sorted.sort_by(f64::total_cmp);
-    let rank = |share: f64| {
-        #[expect(
-            clippy::cast_possible_truncation,
-            clippy::cast_sign_loss,
-            reason = "a rank within the list's length"
-        )]
-        let index = ((share * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
-        sorted[index]
-    };
-    json!({"median": rank(0.5), "p90": rank(0.9), "count": sorted.len()})
+    json!({
+        "median": percentile(&mut finite, 0.5),
+        "p90": percentile(&mut finite, 0.9),
+        "count": finite.len(),
+    })
 }
 
 /// Reads the scene of the video in `video_dir` from its pixels, as `--perception maskrcnn
@@ -290,10 +280,16 @@ mod tests {
 
     #[test]
     fn the_spread_is_the_nearest_rank_median_and_90th_percentile() {
+        // Ranks round((n − 1) × share): 4.5 → 5 and 8.1 → 8 of 0..=9.
         let values: Vec<f64> = (1..=10).map(f64::from).collect();
         assert_eq!(
             spread(&values),
-            json!({"median": 5.0, "p90": 9.0, "count": 10})
+            json!({"median": 6.0, "p90": 9.0, "count": 10})
+        );
+        let odd: Vec<f64> = (1..=11).map(f64::from).collect();
+        assert_eq!(
+            spread(&odd),
+            json!({"median": 6.0, "p90": 10.0, "count": 11})
         );
         assert_eq!(spread(&[f64::NAN]), serde_json::Value::Null);
         assert_eq!(
