@@ -74,6 +74,12 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     ],
     sweep: &[
         &[16.0, 5.0, 2.0, 0.0],
+        &[16.0, 10.0, 2.0, 0.0],
+        &[16.0, 15.0, 1.0, 0.0],
+        &[16.0, 15.0, 2.0, 0.0],
+        &[16.0, 20.0, 1.0, 0.0],
+        &[16.0, 20.0, 2.0, 0.0],
+        &[16.0, 30.0, 1.0, 0.0],
         &[21.0, 10.0, 2.0, 0.0],
         &[31.0, 5.0, 2.0, 0.0],
         &[31.0, 10.0, 1.0, 0.0],
@@ -81,7 +87,7 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
         &[31.0, 20.0, 2.0, 0.0],
         &[31.0, 10.0, 4.0, 0.0],
     ],
-    default: &[31.0, 5.0, 2.0, 0.0],
+    default: &[16.0, 15.0, 2.0, 0.0],
     reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0]),
     errors: &[
         ErrorMeasure {
@@ -116,9 +122,12 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     cases,
 };
 
-/// The shifts along x of the cloth's spawn in the runs of a point's ensemble, units (a fortieth
-/// of the particles' radius, 0.04; a twentieth of the 31 × 31 grid's spacing).
-pub(crate) const ENSEMBLE_SHIFTS: [f64; 3] = [-0.001, 0.0, 0.001];
+/// The shifts along x of the cloth's spawn in the runs of a point's ensemble, units (steps of a
+/// fortieth of the particles' radius, 0.04; a twentieth of the 31 × 31 grid's spacing). Five runs,
+/// not three: with three, the reference's own setting shifted by 0.5 mm disagreed with its
+/// decided labels on 5.0% of poses and 3.7% of contacts; with five, on 2.5% and 2.2%
+/// (`docs/data/cloth.md`).
+pub(crate) const ENSEMBLE_SHIFTS: [f64; 5] = [-0.002, -0.001, 0.0, 0.001, 0.002];
 
 /// The release's spawn height offset is U(0, 0.3): the middle of its range, units.
 const SPAWN_OFFSET: f64 = 0.15;
@@ -264,8 +273,8 @@ fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, Ben
         work = work
             .saturating_add(u64::try_from(passes.saturating_mul(run.updates)).unwrap_or(u64::MAX));
     }
-    // Shares summed in thirds: snap the unanimous ones to exactly 0 or 1, which the decided
-    // reductions look for.
+    // Shares summed in fifths: snap them to whole fifths, so the unanimous ones are exactly 0
+    // or 1, which the decided reductions look for.
     for share in poses.iter_mut().chain(&mut falls).chain(&mut contacts) {
         *share = (*share * members).round() / members;
     }
@@ -335,10 +344,19 @@ mod tests {
                 .all(|(end, start)| (end - start).abs() < 1e-3),
             "{ends:?}"
         );
-        // 25 particles × 2 substeps × 1 iteration × 288 updates, three runs.
-        assert_eq!(output.work, Some(3 * 25 * 2 * 288));
+        // 25 particles × 2 substeps × 1 iteration × 288 updates, five runs.
+        assert_eq!(output.work, Some(5 * 25 * 2 * 288));
         assert!(measure(&half, "test", &[5.0, 2.0, 1.0]).is_err());
         assert!(measure(&half, "test", &[5.0, 2.0, 1.0, f64::NAN]).is_err());
+        // The benchmark's default is the inference setting.
+        let model = ClothModel::default();
+        let setting: Vec<u64> = [model.resolution, model.substeps, model.iterations]
+            .iter()
+            .map(|&n| f64::from(u32::try_from(n).unwrap()).to_bits())
+            .chain([0.0_f64.to_bits()])
+            .collect();
+        let default: Vec<u64> = BENCH.default.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(default, setting);
         // Shifted by 10 cm the far boxes still see nothing of the cloth.
         let shifted = measure(&half, "test", &[5.0, 2.0, 1.0, 0.1]).unwrap();
         assert_eq!(shifted.quantities[..3], output.quantities[..3]);
