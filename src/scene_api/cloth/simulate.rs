@@ -63,13 +63,13 @@ pub enum SimulationError {
 }
 
 /// The inference setting: the cloth's grid and the solver's steps. The default, a 16 × 16 grid
-/// (over the video's cloth, its particles twice the video's) at 15 substeps of 2 iterations, is
-/// the point of `bench physics --scenario cloth` with the smallest decided-label errors at no
-/// more than a tenth of its reference's run time (`docs/data/cloth.md`, *Error against run
-/// time*). Why not the video's 31 × 31: at the few substeps a tenth of the run time allows, its
-/// long chain of particles from the handle does not converge (the cloth swings down ahead of the
-/// fine reference's and meets the boxes differently); half the particles converge at 15
-/// substeps.
+/// (over the video's cloth, its particles twice the video's) at 20 substeps of 1 iteration, is
+/// the point of `bench physics --scenario cloth` with the smallest decided-label errors, over
+/// 40 halves, at no more than a tenth of its reference's run time (`docs/data/cloth.md`, *Error
+/// against run time*). Why not the video's 31 × 31: at the few substeps a tenth of the run time
+/// allows, its long chain of particles from the handle does not converge (the cloth swings down
+/// ahead of the fine reference's and meets the boxes differently); half the particles converge
+/// at a few substeps, and many substeps of one iteration each beat fewer of more.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClothModel {
     /// Particles along a side of the simulated cloth (the video's cloth has 31).
@@ -87,8 +87,8 @@ impl Default for ClothModel {
     fn default() -> Self {
         ClothModel {
             resolution: 16,
-            substeps: 15,
-            iterations: 2,
+            substeps: 20,
+            iterations: 1,
             friction_scale: FRICTION_SCALE,
         }
     }
