@@ -33,7 +33,7 @@
 
 use std::path::PathBuf;
 
-use super::simulate::{ClothModel, SeenBox, SeenCloth, SeenHalf, simulate_half};
+use super::simulate::{ClothModel, INFERENCE_MODEL, SeenBox, SeenCloth, SeenHalf, simulate_half};
 use crate::dataset::cloth::ClothAnnotation;
 use crate::dataset::cloth::names::Side;
 use crate::dataset::cloth::outcome::Pose;
@@ -87,7 +87,7 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
         &[31.0, 20.0, 2.0, 0.0],
         &[31.0, 10.0, 4.0, 0.0],
     ],
-    default: &[16.0, 20.0, 1.0, 0.0],
+    default: &DEFAULT_POINT,
     reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0]),
     errors: &[
         ErrorMeasure {
@@ -121,6 +121,18 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     uses_videos: true,
     cases,
 };
+
+/// The inference setting ([`INFERENCE_MODEL`]) as a sweep point, unshifted.
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "a grid size, substeps and iterations are small whole numbers"
+)]
+const DEFAULT_POINT: [f64; 4] = [
+    INFERENCE_MODEL.resolution as f64,
+    INFERENCE_MODEL.substeps as f64,
+    INFERENCE_MODEL.iterations as f64,
+    0.0,
+];
 
 /// The shifts along x of the cloth's spawn in the runs of a point's ensemble, units (steps of a
 /// fortieth of the particles' radius, 0.04; a twentieth of the 31 × 31 grid's spacing). Five runs,
