@@ -8,7 +8,9 @@
 //! for the time; the results are identical each time), and each error measure is the largest
 //! difference of its quantities from the reference at the end. The default point is always
 //! measured, and the report ends with its largest error and its run time as a share of the
-//! reference's.
+//! reference's. A case with measures over the labels the reference decides (its ensemble's runs
+//! agree) also says how many labels each was taken over (`decided_labels`): what its errors can
+//! tell apart.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -131,6 +133,21 @@ fn sweep_case(
             case_report.insert("reference_work".into(), json!(work));
         }
     }
+    // How many labels the decided measures were taken over: what their errors can tell.
+    let decided: Map<String, Value> = bench
+        .errors
+        .iter()
+        .zip(&reference)
+        .filter_map(|(measure, expected)| {
+            Some((
+                measure.key.to_string(),
+                json!(decided_labels(measure.reduction, expected)?),
+            ))
+        })
+        .collect();
+    if !decided.is_empty() {
+        case_report.insert("decided_labels".into(), Value::Object(decided));
+    }
     case_report.insert("sweep".into(), Value::Array(rows));
     Ok((Value::Object(case_report), (case.name.clone(), points_out)))
 }
@@ -164,9 +181,7 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
                     let (sum, count) = got
                         .iter()
                         .zip(expected)
-                        .filter(|(_, expected)| {
-                            expected.abs() < 1e-9 || (*expected - 1.0).abs() < 1e-9
-                        })
+                        .filter(|(_, expected)| is_label(**expected))
                         .fold((0.0, 0usize), |(sum, count), (a, b)| {
                             (sum + (a - b).abs(), count + 1)
                         });
@@ -178,20 +193,42 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
         .collect()
 }
 
+/// Whether a share is a label: the reference's ensemble agreed on it (0 or 1).
+fn is_label(share: f64) -> bool {
+    share.abs() < 1e-9 || (share - 1.0).abs() < 1e-9
+}
+
+/// Whether a group of category shares is decided: one category holds every run.
+fn decided_group(shares: &[f64]) -> bool {
+    shares.iter().all(|share| is_label(*share))
+        && shares.iter().filter(|share| **share > 0.5).count() == 1
+}
+
+/// The number of labels a decided reduction of `expected` is taken over (`None` for the
+/// others).
+fn decided_labels(reduction: Reduction, expected: &[f64]) -> Option<usize> {
+    match reduction {
+        Reduction::DecidedMean => Some(expected.iter().filter(|share| is_label(**share)).count()),
+        Reduction::DecidedCategories(size) if size > 0 => Some(
+            expected
+                .chunks(size)
+                .filter(|group| decided_group(group))
+                .count(),
+        ),
+        _ => None,
+    }
+}
+
 /// The error of [`Reduction::DecidedCategories`]: over the groups of `size` shares that the
 /// reference holds one-hot, the mean share of runs outside the reference's category.
 fn decided_categories(got: &[f64], expected: &[f64], size: usize) -> f64 {
     if size == 0 {
         return f64::INFINITY;
     }
-    let is_label = |share: &f64| share.abs() < 1e-9 || (share - 1.0).abs() < 1e-9;
     let (sum, count) = got
         .chunks(size)
         .zip(expected.chunks(size))
-        .filter(|(_, expected)| {
-            expected.iter().all(is_label)
-                && expected.iter().filter(|share| **share > 0.5).count() == 1
-        })
+        .filter(|(_, expected)| decided_group(expected))
         .fold((0.0, 0usize), |(sum, count), (got, expected)| {
             let difference: f64 = got.iter().zip(expected).map(|(a, b)| (a - b).abs()).sum();
             (sum + difference / 2.0, count + 1)
@@ -574,6 +611,20 @@ mod tests {
         // Nothing decided: no error; a group size of 0: no meaning.
         assert!(decided_categories(&[0.5, 0.5], &[0.5, 0.5], 2).abs() < 1e-15);
         assert!(decided_categories(&[1.0], &[1.0], 0).is_infinite());
+        // The labels each decided measure is taken over: two of three shares, one of two
+        // groups; none for the other reductions.
+        assert_eq!(
+            decided_labels(Reduction::DecidedMean, &[1.0, 0.5, 1.0]),
+            Some(2)
+        );
+        assert_eq!(
+            decided_labels(
+                Reduction::DecidedCategories(3),
+                &[0.0, 1.0, 0.0, 0.5, 0.0, 0.5]
+            ),
+            Some(1)
+        );
+        assert_eq!(decided_labels(Reduction::Mean, &[1.0]), None);
     }
 
     #[test]

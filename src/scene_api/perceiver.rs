@@ -205,6 +205,11 @@ impl Perceiver {
         &self.kept
     }
 
+    /// Per first-pass track, the object it stands for (empty until named).
+    pub fn names(&self) -> &[Option<String>] {
+        &self.names
+    }
+
     /// Names the first pass's tracks (one entry per track; `None`: stands for no object), for
     /// [`Perceiver::full_pass`].
     pub fn set_names(&mut self, names: Vec<Option<String>>) {

@@ -506,6 +506,15 @@ impl ScenarioBackend for BallBackend {
         }
     }
 
+    fn perception_work(&self) -> (u64, u64) {
+        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
+            perceiver
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .work()
+        })
+    }
+
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {
         self.event_run(event, "register_event").map(|_| ())
     }

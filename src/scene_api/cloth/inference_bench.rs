@@ -150,7 +150,7 @@ impl BoxCounts {
 }
 
 /// Masses from this on are the release's immovable draws (99998 and 99999 kg), kg.
-const IMMOVABLE: f64 = 99998.0;
+pub(crate) const IMMOVABLE: f64 = 99998.0;
 
 /// Each property's verdict next to the annotation's cloth with more of it.
 pub(super) fn scored(annotation: &ClothAnnotation, verdict: ClothVerdict) -> Vec<Scored> {

@@ -11,7 +11,8 @@
 //! annotation only the boxes' sizes, shapes and start poses are read (what the first frames
 //! show). Under `--perception maskrcnn` the detector's masks give the pillars and plates
 //! (`perceived`: placed through the camera, named by colour and shape) and, under `--dynamics
-//! simulate`, what the cloths do (`pixels`: spawn, pull, properties; every box movable); of
+//! simulate`, what the cloths do (`pixels`: spawn, pull, properties) and which boxes stand
+//! still (`motion`: those get their pool's immovable mass); of
 //! the annotation only the camera calibration is read (with `--dynamics annotation`, also the
 //! recorded outcomes, keyed by the names perception must read right).
 //!
@@ -42,6 +43,7 @@
 
 pub mod infer;
 mod inference_bench;
+mod motion;
 mod perceived;
 pub(crate) mod physics_bench;
 mod pixels;
@@ -105,6 +107,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
             backend.runs = Some(ClothRuns::perceived(
                 perceiver,
                 camera,
+                perceived.annotation.clone(),
                 ClothModel::default(),
             ));
             backend
@@ -114,6 +117,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
             // the annotated ones, whose outcomes are keyed by name; the cloths are always seen.
             let mut backend = ClothBackend::new(annotation);
             backend.from_pixels = true;
+            backend.load_work = perceiver.work();
             for object in &mut backend.objects {
                 object.visible =
                     object.kind == "cloth" || perceived.annotation.find_box(&object.name).is_some();
@@ -175,6 +179,9 @@ pub(crate) struct ClothBackend {
     /// Whether the objects were read from pixels (`--perception maskrcnn`): a name no object
     /// carries may then be a perception miss (`not_seen`) rather than the program's misuse.
     from_pixels: bool,
+    /// Frames decoded and run through the detector at load, where the perceiver is not kept
+    /// (`--perception maskrcnn --dynamics annotation`).
+    load_work: (u64, u64),
 }
 
 impl ClothBackend {
@@ -233,6 +240,7 @@ impl ClothBackend {
             runs: None,
             unread: Vec::new(),
             from_pixels: false,
+            load_work: (0, 0),
         }
     }
 
@@ -571,6 +579,14 @@ impl ScenarioBackend for ClothBackend {
 
     fn simulation_work(&self) -> (u64, u64) {
         self.runs.as_ref().map_or((0, 0), ClothRuns::work)
+    }
+
+    fn perception_work(&self) -> (u64, u64) {
+        let (frames, detections) = self
+            .runs
+            .as_ref()
+            .map_or((0, 0), ClothRuns::perception_work);
+        (frames + self.load_work.0, detections + self.load_work.1)
     }
 
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {

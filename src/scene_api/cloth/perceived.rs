@@ -78,8 +78,7 @@ pub(crate) struct PlacedBox {
 }
 
 impl PlacedBox {
-    /// The box of an annotation's record where it starts (the measuring test's boxes).
-    #[cfg(test)]
+    /// The box of an annotation's record where it starts.
     pub(crate) fn from_record(record: &BoxRecord) -> PlacedBox {
         PlacedBox {
             footprint: [record.start_position[0], record.start_position[2]],

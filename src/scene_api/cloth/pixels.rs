@@ -34,7 +34,7 @@
 //!   its start pose (of the upright boxes of seeds 3410 and 3403 flagged, 8 of 9 carried the
 //!   cloth; of 16 that carried it, 8 were flagged). Taken as "immovable" for the boxes' masses
 //!   it scored P-Opt. 54.6 / P-Ques. 31.2 on the 16 tuning videos of seed 3410, against 75.3 /
-//!   62.5 with every box movable, so from pixels every box is movable.
+//!   62.5 with every box movable. The boxes' own masks tell it better (`motion`).
 
 use crate::dataset::cloth::names::Side;
 use crate::perception::camera::CameraModel;
@@ -49,12 +49,20 @@ use crate::synth::cloth::layout::{CLOTH_RESOLUTION, CLOTH_SIDE, CLOTH_START_Z, H
 use crate::synth::cloth::simulate::{CAPTURE_EVERY, PULL_SPEED, RADIUS_PER_SPACING};
 
 use super::infer::ClothVerdict;
+use super::motion::{MOTION_FRAMES, Motion, StartRegion};
 #[cfg(test)]
 use super::perceived::PlacedBox;
 use super::perceived::SPAWN_FRAME;
 
 /// The frames the cloths are read from (the union of the ranges below).
 pub(crate) const CLOTH_FRAMES: std::ops::RangeInclusive<usize> = 31..=114;
+/// The frames one pass of the detector reads for the cloths and the boxes' motion: the union
+/// of [`CLOTH_FRAMES`] and `motion`'s frames, in order.
+pub(crate) fn pass_frames() -> Vec<usize> {
+    (*CLOTH_FRAMES.start().min(MOTION_FRAMES.start())
+        ..=*CLOTH_FRAMES.end().max(MOTION_FRAMES.end()))
+        .collect()
+}
 /// Frames the spawn height is read over (the cloth is dragged, its gripped row on top).
 const HEIGHT_FRAMES: std::ops::RangeInclusive<usize> = 31..=40;
 /// Frames the stretch is read over (the cloths fall from their handles).
@@ -85,11 +93,13 @@ pub(crate) const MEAN_PULL: f64 = 5.0;
 /// The masks of one cloth, by frame.
 pub(crate) type ClothMasks = Vec<(usize, InstanceMask)>;
 
-/// The cloths' masks, by frame.
+/// The cloths' masks, by frame, and what the boxes' masks showed of their motion.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct SeenMasks {
     /// Left, right: each cloth's masks.
     pub cloths: [ClothMasks; 2],
+    /// Per watched box (the `regions` given to [`seen_masks`]), its motion.
+    pub motions: Vec<Motion>,
 }
 
 /// What the video shows of the cloths.
@@ -104,11 +114,13 @@ pub(crate) struct SeenCloths {
 }
 
 /// The masks of `frames`: per frame and half, the largest cloth detection whose centroid lies
-/// on that half's side of `x = 0`.
+/// on that half's side of `x = 0`; and each box of `regions` watched through the pillar and plate
+/// masks of its colour (`motion`).
 pub(crate) fn seen_masks(
     perceiver: &mut Perceiver,
     model: &CameraModel,
     frames: &[usize],
+    regions: &[StartRegion],
 ) -> Result<SeenMasks, ApiError> {
     perceiver.first_pass()?;
     let Some(classes) = perceiver.classes().cloned() else {
@@ -117,8 +129,22 @@ pub(crate) fn seen_masks(
     let divide = model
         .project([0.0, 1.0, 0.0])
         .map_or(f64::from(model.width) / 2.0, |p| p.x);
-    let mut seen = SeenMasks::default();
+    let mut seen = SeenMasks {
+        motions: vec![Motion::default(); regions.len()],
+        ..SeenMasks::default()
+    };
     perceiver.visit_detections(frames, &mut |frame, detections| {
+        for (region, motion) in regions.iter().zip(&mut seen.motions) {
+            let masks: Vec<&InstanceMask> = detections
+                .iter()
+                .filter(|detection| {
+                    detection.color == Some(region.color)
+                        && matches!(classes.kind(detection.class), "pillar" | "plate")
+                })
+                .map(|detection| &detection.mask)
+                .collect();
+            motion.watch(region, frame.index, &masks);
+        }
         let mut best: [Option<&InstanceMask>; 2] = [None, None];
         for detection in detections {
             if classes.kind(detection.class) != "cloth" {
@@ -544,7 +570,7 @@ mod tests {
             let (width, height, _) = perceiver.frames();
             let model = camera_model(&camera, (width, height));
             let frames: Vec<usize> = CLOTH_FRAMES.collect();
-            let seen_masks = seen_masks(&mut perceiver, &model, &frames).unwrap();
+            let seen_masks = seen_masks(&mut perceiver, &model, &frames, &[]).unwrap();
             let masks = &seen_masks.cloths;
             let boxes: Vec<serde_json::Value> = perceived
                 .annotation

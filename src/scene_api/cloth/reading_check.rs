@@ -8,7 +8,9 @@
 //! right half, the footprint's centre within [`MATCH_RADIUS`]) and those read that are not in
 //! the scene or misplaced; the footprint and yaw errors of the boxes named right (median and
 //! 90th percentile); per property (stretch, bending, friction, and the friction guess the
-//! simulation takes) the verdicts right, wrong and not told. Per video and in total.
+//! simulation takes) the verdicts right, wrong and not told; the boxes read still (`motion`)
+//! among the immovable ones, the light ones that fell and the light ones that stayed upright.
+//! Per video and in total.
 
 use std::path::Path;
 
@@ -16,11 +18,14 @@ use serde::Serialize;
 use serde_json::json;
 
 use super::infer::percentile;
+use super::inference_bench::IMMOVABLE;
 use super::inference_bench::scored;
+use super::motion::start_regions;
 use super::perceived::perceive_scene;
-use super::pixels::{CLOTH_FRAMES, read_cloths, seen_masks};
+use super::pixels::{pass_frames, read_cloths, seen_masks};
 use crate::dataset::VideoFolder;
 use crate::dataset::cloth::names::{Shape, Side};
+use crate::dataset::cloth::outcome::Pose;
 use crate::dataset::cloth::{ClothAnnotation, VOCABULARY};
 use crate::perception::cloth::PERCEPTION;
 use crate::scene_api::perceiver::{
@@ -34,6 +39,47 @@ pub(crate) const MATCH_RADIUS: f64 = 0.3;
 
 /// The properties the cloth questions ask about (the factual families).
 const ASKED: [&str; 2] = ["elasticity", "bending"];
+
+/// The boxes named right that the masks show standing still (`motion`: the simulation gives
+/// them their pool's immovable mass), per what they truly were: each `[read still, read]`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+struct StillCheck {
+    /// Immovable boxes (a 99999-class mass).
+    immovable: [usize; 2],
+    /// Light boxes that fell over.
+    light_fell: [usize; 2],
+    /// Light boxes that stayed upright.
+    light_upright: [usize; 2],
+}
+
+impl StillCheck {
+    fn add(&mut self, other: StillCheck) {
+        for (own, theirs) in [
+            (&mut self.immovable, other.immovable),
+            (&mut self.light_fell, other.light_fell),
+            (&mut self.light_upright, other.light_upright),
+        ] {
+            own[0] += theirs[0];
+            own[1] += theirs[1];
+        }
+    }
+
+    /// Counts `truth`'s box `name` (if it has one), read still or not.
+    fn count(&mut self, truth: &ClothAnnotation, name: &str, still: bool) {
+        let Some((_, record)) = truth.find_box(name) else {
+            return;
+        };
+        let slot = if record.mass >= IMMOVABLE {
+            &mut self.immovable
+        } else if record.end_pose == Pose::Upright {
+            &mut self.light_upright
+        } else {
+            &mut self.light_fell
+        };
+        slot[0] += usize::from(still);
+        slot[1] += 1;
+    }
+}
 
 /// One video's reading.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -50,6 +96,8 @@ struct SceneCheck {
     yaw_errors: Vec<f64>,
     /// Per property, in [`scored`]'s order: its name and its verdict's tally.
     properties: Vec<(&'static str, Tally)>,
+    /// The boxes read still (`motion`), against what they were.
+    still: StillCheck,
     /// What the video could not tell.
     unknown: Vec<String>,
     /// Each box read wrong, and how.
@@ -73,6 +121,7 @@ impl VideoReading for SceneCheck {
     fn add(&mut self, other: &SceneCheck) {
         self.pillars.add(other.pillars);
         self.plates.add(other.plates);
+        self.still.add(other.still);
         self.footprint_errors.extend(&other.footprint_errors);
         self.yaw_errors.extend(&other.yaw_errors);
         for (name, tally) in &other.properties {
@@ -98,6 +147,7 @@ pub fn scene_report(
         "footprint_error_units": spread(&total.footprint_errors),
         "yaw_error_degrees": spread(&total.yaw_errors),
         "properties": total.properties,
+        "still": total.still,
         "videos_read_entirely": entire,
         "per_video": per_video,
     }))
@@ -124,6 +174,7 @@ fn check_scene(video_dir: &Path, models: &PerceptionModels) -> Result<SceneCheck
     let camera = calibration(truth.camera.as_ref())?.clone();
     let mut perceiver = Perceiver::open(video_dir, models, PERCEPTION.classes, &VOCABULARY)?;
     let perceived = perceive_scene(&mut perceiver, &camera)?;
+    perceiver.set_names(perceived.names.clone());
     let mut check = SceneCheck {
         unknown: perceived.unknown.clone(),
         ..SceneCheck::default()
@@ -131,8 +182,13 @@ fn check_scene(video_dir: &Path, models: &PerceptionModels) -> Result<SceneCheck
     compare_boxes(&truth, &perceived.annotation, &mut check);
     let (width, height, _) = perceiver.frames();
     let model = camera_model(&camera, (width, height));
-    let frames: Vec<usize> = CLOTH_FRAMES.collect();
-    let masks = seen_masks(&mut perceiver, &model, &frames)?;
+    let regions = start_regions(&perceiver, &perceived.annotation, &model);
+    let masks = seen_masks(&mut perceiver, &model, &pass_frames(), &regions)?;
+    for (region, motion) in regions.iter().zip(&masks.motions) {
+        check
+            .still
+            .count(&truth, &region.name, motion.still(region));
+    }
     let seen = read_cloths(&masks, &model);
     check.unknown.extend(seen.unknown);
     for property in scored(&truth, seen.verdict) {

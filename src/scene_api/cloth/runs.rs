@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock, PoisonError};
 
 use super::infer::{ClothVerdict, goes_through, read_cloths};
+use super::motion::start_regions;
 use super::pixels;
 use super::simulate::{ClothModel, HalfRun, SeenBox, SeenCloth, SeenHalf, simulate_half};
 use crate::dataset::cloth::names::Side;
@@ -40,6 +41,9 @@ pub(crate) struct Observed {
     pub cloths: [ObservedCloth; 2],
     /// The properties' verdicts.
     pub verdict: ClothVerdict,
+    /// The boxes the masks show standing still where they started (`motion`; none read from
+    /// tracked particles, whose path tells the same per half).
+    pub still: Vec<String>,
 }
 
 /// Where the cloths are read from.
@@ -51,6 +55,8 @@ enum Source {
     Perceived {
         perceiver: Box<Mutex<Perceiver>>,
         camera: Camera,
+        /// The boxes perception read.
+        boxes: Box<ClothAnnotation>,
     },
 }
 
@@ -70,11 +76,17 @@ impl ClothRuns {
     }
 
     /// The runs of the video `perceiver` opened, its cloths read from their masks seen through
-    /// `camera`.
-    pub(crate) fn perceived(perceiver: Perceiver, camera: Camera, model: ClothModel) -> ClothRuns {
+    /// `camera`, its boxes (`boxes`, as perception read them) watched for motion.
+    pub(crate) fn perceived(
+        perceiver: Perceiver,
+        camera: Camera,
+        boxes: ClothAnnotation,
+        model: ClothModel,
+    ) -> ClothRuns {
         let source = Source::Perceived {
             perceiver: Box::new(Mutex::new(perceiver)),
             camera,
+            boxes: Box::new(boxes),
         };
         ClothRuns::of(source, model)
     }
@@ -109,14 +121,29 @@ impl ClothRuns {
             })
     }
 
+    /// Frames decoded and run through the detector so far (none from tracked particles).
+    pub(crate) fn perception_work(&self) -> (u64, u64) {
+        match &self.source {
+            Source::Tracked(_) => (0, 0),
+            Source::Perceived { perceiver, .. } => perceiver
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .work(),
+        }
+    }
+
     /// What the video shows of the cloths (read on first use).
     pub(crate) fn observed(&self) -> Result<&Observed, ApiError> {
         self.observed
             .get_or_init(|| match &self.source {
                 Source::Tracked(folder) => observe(folder),
-                Source::Perceived { perceiver, camera } => {
+                Source::Perceived {
+                    perceiver,
+                    camera,
+                    boxes,
+                } => {
                     let mut perceiver = perceiver.lock().unwrap_or_else(PoisonError::into_inner);
-                    observe_pixels(&mut perceiver, camera)
+                    observe_pixels(&mut perceiver, camera, boxes)
                 }
             })
             .as_ref()
@@ -165,15 +192,28 @@ pub(crate) fn observe(folder: &Path) -> Result<Observed, ApiError> {
             track: Some(reading.track),
         }),
         verdict,
+        still: Vec::new(),
     })
 }
 
-/// Reads the cloths from their masks in the video `perceiver` opened, seen through `camera`.
-fn observe_pixels(perceiver: &mut Perceiver, camera: &Camera) -> Result<Observed, ApiError> {
+/// Reads the cloths from their masks in the video `perceiver` opened, seen through `camera`,
+/// and which of `boxes` stood still.
+fn observe_pixels(
+    perceiver: &mut Perceiver,
+    camera: &Camera,
+    boxes: &ClothAnnotation,
+) -> Result<Observed, ApiError> {
     let (width, height, _) = perceiver.frames();
     let model = camera_model(camera, (width, height));
-    let frames: Vec<usize> = pixels::CLOTH_FRAMES.collect();
-    let masks = pixels::seen_masks(perceiver, &model, &frames)?;
+    let frames = pixels::pass_frames();
+    let regions = start_regions(perceiver, boxes, &model);
+    let masks = pixels::seen_masks(perceiver, &model, &frames, &regions)?;
+    let still = regions
+        .iter()
+        .zip(&masks.motions)
+        .filter(|(region, motion)| motion.still(region))
+        .map(|(region, _)| region.name.clone())
+        .collect();
     if masks.cloths.iter().all(Vec::is_empty) {
         return Err(ApiError::Unavailable(
             "--perception maskrcnn reads the cloths from their masks, and the detector found no cloth in the video".to_string(),
@@ -195,13 +235,13 @@ fn observe_pixels(perceiver: &mut Perceiver, camera: &Camera) -> Result<Observed
             },
         ],
         verdict: seen.verdict,
+        still,
     })
 }
 
 /// `side`'s half as the video shows it: the annotation's boxes where they start (what the
 /// first frames show), each marked undisturbed where the tracked cloth never goes through its
-/// place (read from pixels, every box is movable: see below), and the
-/// cloth as read, with the properties of the verdict (where a property is not told, the mean of
+/// place (read from pixels: where its own masks show it standing still), and the cloth as read, with the properties of the verdict (where a property is not told, the mean of
 /// the release's two values).
 pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Observed) -> SeenHalf {
     let reading = match side {
@@ -214,13 +254,14 @@ pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Obs
         .map(|record| {
             let mut seen = SeenBox::from_record(record, None);
             // From the tracked cloth: undisturbed where its path never goes through the box's
-            // place. Masks show no such path: every box is movable, its pool's movable mass.
-            // (Marking the boxes the cloth's mask lies on after the handle lets go as immovable
-            // scored P-Opt. 54.6 / P-Ques. 31.2 on the 16 tuning videos of seed 3410, against
-            // 75.3 / 62.5 with every box movable.)
-            seen.undisturbed = reading.track.as_ref().is_some_and(|track| {
-                !goes_through(track, seen.position, seen.orientation, seen.size)
-            });
+            // place. Masks show no such path, but a box's own masks show it standing still
+            // (`motion`). (Marking the boxes the cloth's mask lies on after the handle lets go
+            // as immovable scored P-Opt. 54.6 / P-Ques. 31.2 on the 16 tuning videos of seed
+            // 3410, against 75.3 / 62.5 with every box movable.)
+            seen.undisturbed = reading.track.as_ref().map_or_else(
+                || observed.still.contains(&seen.name),
+                |track| !goes_through(track, seen.position, seen.orientation, seen.size),
+            );
             seen
         })
         .collect();
@@ -244,5 +285,47 @@ pub(crate) fn seen_half(annotation: &ClothAnnotation, side: Side, observed: &Obs
             }),
             pull_distance: reading.pull_distance,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Read from pixels (no tracked path), the boxes the masks show standing still are the
+    /// undisturbed ones (their pool's immovable mass), and only those.
+    #[test]
+    fn from_pixels_the_boxes_seen_still_are_undisturbed() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cloth_collision/0");
+        let annotation = ClothAnnotation::load(&path.join("outputs.json")).unwrap();
+        let cloth = ObservedCloth {
+            spawn: pixels::spawn_grid(Side::Left, 2.55),
+            pull_distance: pixels::MEAN_PULL,
+            track: None,
+        };
+        let observed = Observed {
+            cloths: [cloth.clone(), cloth],
+            verdict: ClothVerdict {
+                stretches: None,
+                bends: None,
+                friction: None,
+                friction_guess: None,
+            },
+            still: vec!["Gray Pillar".to_string()],
+        };
+        let half = seen_half(&annotation, Side::Left, &observed);
+        let undisturbed: Vec<(&str, bool)> = half
+            .boxes
+            .iter()
+            .map(|seen| (seen.name.as_str(), seen.undisturbed))
+            .collect();
+        assert_eq!(
+            undisturbed,
+            [
+                ("Green Plate", false),
+                ("Gray Pillar", true),
+                ("Blue Plate", false)
+            ]
+        );
     }
 }

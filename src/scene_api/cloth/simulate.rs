@@ -20,7 +20,9 @@
 //!   told, the mean of the two pools' ([`assumed_mass`]). On the 100 videos of seed 2026
 //!   (in-sample) the cloth never went through the places of 273 boxes: every one of the 183
 //!   immovable ones, 78 light ones it did not move, 12 light ones that fell some other way; it
-//!   went through the places of 299 light ones, 275 of which fell.
+//!   went through the places of 299 light ones, 275 of which fell. Read from pixels, with no
+//!   3-D path of the cloth, a box is undisturbed when its own masks show it standing still
+//!   where it started (`motion`).
 //! * **The cloth's mass** is the generator's areal mass (0.1 kg/m²), which the release does not
 //!   record.
 //! * **The handle** drags at the release's 3 units/s along +z for the distance the gripped row
