@@ -445,6 +445,17 @@ impl Perceiver {
     }
 }
 
+/// The frames decoded and run through the detector by the perceiver a backend keeps for its
+/// later questions (`None`: it keeps none), for the scene's work counters.
+pub(crate) fn kept_work(perceiver: Option<&Mutex<Perceiver>>) -> (u64, u64) {
+    perceiver.map_or((0, 0), |perceiver| {
+        perceiver
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .work()
+    })
+}
+
 /// The annotated object each track stands for, by box overlap with the annotated boxes of the
 /// track's first frame (kind against kind, or two kinds of one group word such as rope's
 /// loads; one track per object).

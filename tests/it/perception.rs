@@ -788,9 +788,9 @@ fn the_demo_cloth_boxes_that_stand_still_are_read_still_from_their_masks() {
     // all fallen (supine). From the masks alone, the three immovable boxes are read still and
     // none of the seven: these get their pool's immovable mass under `--perception maskrcnn
     // --dynamics simulate`.
-    let root = crate::support::root();
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_contphy-eval"))
-        .args([
+    let output = crate::support::contphy(
+        &crate::support::root(),
+        &[
             "bench",
             "perception",
             "--scenario",
@@ -799,10 +799,8 @@ fn the_demo_cloth_boxes_that_stand_still_are_read_still_from_their_masks() {
             "eval/demo",
             "--every",
             "50",
-        ])
-        .current_dir(&root)
-        .output()
-        .unwrap();
+        ],
+    );
     assert_eq!(
         output.status.code(),
         Some(0),

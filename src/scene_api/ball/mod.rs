@@ -51,7 +51,7 @@ use crate::dataset::ball::outcome::{Pit, PitRecord};
 use crate::dataset::ball::{BallAnnotation, ElasticityType, VOCABULARY};
 use crate::dataset::{FourDData, Scenario};
 use crate::perception::ball::PERCEPTION;
-use crate::scene_api::perceiver::{Perceiver, calibration};
+use crate::scene_api::perceiver::{Perceiver, calibration, kept_work};
 use crate::scene_api::{
     ApiError, DynamicsBackend, EventAction, ObjectId, PerceptionBackend, Property, ScenarioBackend,
     SceneEvent, SceneObjectInfo, Target, VideoSpec, misuse, named_nothing, resolve_description,
@@ -507,12 +507,7 @@ impl ScenarioBackend for BallBackend {
     }
 
     fn perception_work(&self) -> (u64, u64) {
-        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
-            perceiver
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .work()
-        })
+        kept_work(self.perceiver.as_ref())
     }
 
     fn check_event(&self, event: &SceneEvent) -> Result<(), ApiError> {

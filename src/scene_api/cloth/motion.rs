@@ -240,7 +240,7 @@ mod tests {
         })
     }
 
-    /// A pillar standing where it started, its lower half hidden behind the cloth for a while,
+    /// A pillar standing where it started, its upper half hidden behind the cloth for a while,
     /// is still; one that slides away, or whose top drops, is not; one never seen late is not.
     #[test]
     fn a_box_is_still_only_when_its_masks_stay_in_its_start_region_and_reach_its_top() {

@@ -21,7 +21,7 @@ use crate::dataset::cloth::{ClothAnnotation, Friction, VALUES};
 use crate::dataset::{Camera, FourDData};
 use crate::physics::vector3::Vector;
 use crate::scene_api::ApiError;
-use crate::scene_api::perceiver::{Perceiver, camera_model};
+use crate::scene_api::perceiver::{Perceiver, camera_model, kept_work};
 
 /// What the video shows of one cloth that a simulation replays.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,10 +125,7 @@ impl ClothRuns {
     pub(crate) fn perception_work(&self) -> (u64, u64) {
         match &self.source {
             Source::Tracked(_) => (0, 0),
-            Source::Perceived { perceiver, .. } => perceiver
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .work(),
+            Source::Perceived { perceiver, .. } => kept_work(Some(perceiver)),
         }
     }
 
@@ -205,6 +202,9 @@ fn observe_pixels(
 ) -> Result<Observed, ApiError> {
     let (width, height, _) = perceiver.frames();
     let model = camera_model(camera, (width, height));
+    // One detector pass for the cloths and the boxes' motion, though only the simulation needs
+    // the motion: a scene asked about properties alone reads 31 frames more (2 of the 100 videos
+    // of seed 7070), where splitting the pass would run the detector twice on every other.
     let frames = pixels::pass_frames();
     let regions = start_regions(perceiver, boxes, &model);
     let masks = pixels::seen_masks(perceiver, &model, &frames, &regions)?;

@@ -67,7 +67,7 @@ use crate::dataset::fluid::{
 };
 use crate::dataset::{FourDData, Scenario};
 use crate::perception::fluid::PERCEPTION;
-use crate::scene_api::perceiver::{Perceiver, calibration};
+use crate::scene_api::perceiver::{Perceiver, calibration, kept_work};
 use crate::scene_api::{
     ApiError, DynamicsBackend, ObjectId, PerceptionBackend, Property, ScenarioBackend, SceneEvent,
     SceneObjectInfo, Target, VideoSpec, misuse, resolve_description,
@@ -570,11 +570,6 @@ impl ScenarioBackend for FluidBackend {
     }
 
     fn perception_work(&self) -> (u64, u64) {
-        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
-            perceiver
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .work()
-        })
+        kept_work(self.perceiver.as_ref())
     }
 }

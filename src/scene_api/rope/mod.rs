@@ -39,7 +39,7 @@ use crate::dataset::rope::{
 };
 use crate::dataset::{Camera, FourDData};
 use crate::perception::rope::PERCEPTION;
-use crate::scene_api::perceiver::{PerceivedScene, Perceiver};
+use crate::scene_api::perceiver::{PerceivedScene, Perceiver, kept_work};
 use crate::scene_api::{ApiError, ObjectId, SceneObjectInfo, misuse, unknown_action};
 use crate::scene_api::{
     DynamicsBackend, EventAction, PerceptionBackend, Property, ScenarioBackend, SceneEvent, Target,
@@ -443,12 +443,7 @@ impl ScenarioBackend for RopeBackend {
     }
 
     fn perception_work(&self) -> (u64, u64) {
-        self.perceiver.as_ref().map_or((0, 0), |perceiver| {
-            perceiver
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner)
-                .work()
-        })
+        kept_work(self.perceiver.as_ref())
     }
 
     fn objects(&self) -> &[SceneObjectInfo] {
