@@ -45,6 +45,10 @@ struct DefaultTotals {
     error: f64,
     /// Per measure, the largest error over the cases.
     measures: Vec<f64>,
+    /// Per decided measure, its error summed over the cases weighted by their decided labels,
+    /// and those labels' number: the pooled error is their quotient (a case deciding one
+    /// label weighs one label, not a case's worth).
+    pooled: Vec<(f64, usize)>,
     ms: f64,
     reference_ms: f64,
     work: u64,
@@ -57,7 +61,7 @@ fn sweep_case(
     bench: &PhysicsBench,
     case: &BenchCase,
     points: &[Vec<f64>],
-    reference_point: &[f64],
+    [reference_point, default_point]: [&[f64]; 2],
     totals: &mut DefaultTotals,
 ) -> Result<(Value, Series), AppError> {
     let mut progress = std::io::stderr().lock();
@@ -70,6 +74,13 @@ fn sweep_case(
         let _ = writeln!(progress, "{:.1} s", ms / 1e3);
         (output.quantities, words, Some((ms, output.work)))
     };
+    // How many labels each decided measure is taken over: what its errors can tell.
+    let decided: Vec<Option<usize>> = bench
+        .errors
+        .iter()
+        .zip(&reference)
+        .map(|(measure, expected)| decided_labels(measure.reduction, expected))
+        .collect();
     let mut points_out = Vec::new();
     let mut rows = Vec::new();
     for point in points {
@@ -108,11 +119,20 @@ fn sweep_case(
                 );
             }
         }
-        if point.as_slice() == bench.default {
+        if *point == default_point {
             totals.error = totals.error.max(largest);
             totals.measures.resize(case_errors.len(), 0.0);
             for (total, error) in totals.measures.iter_mut().zip(&case_errors) {
                 *total = total.max(*error);
+            }
+            totals.pooled.resize(case_errors.len(), (0.0, 0));
+            for ((pooled, error), labels) in
+                totals.pooled.iter_mut().zip(&case_errors).zip(&decided)
+            {
+                if let Some(labels) = labels {
+                    pooled.0 += error * *labels as f64;
+                    pooled.1 += labels;
+                }
             }
             totals.ms += best;
             totals.work += work.unwrap_or(0);
@@ -133,17 +153,11 @@ fn sweep_case(
             case_report.insert("reference_work".into(), json!(work));
         }
     }
-    // How many labels the decided measures were taken over: what their errors can tell.
     let decided: Map<String, Value> = bench
         .errors
         .iter()
-        .zip(&reference)
-        .filter_map(|(measure, expected)| {
-            Some((
-                measure.key.to_string(),
-                json!(decided_labels(measure.reduction, expected)?),
-            ))
-        })
+        .zip(&decided)
+        .filter_map(|(measure, labels)| Some((measure.key.to_string(), json!((*labels)?))))
         .collect();
     if !decided.is_empty() {
         case_report.insert("decided_labels".into(), Value::Object(decided));
@@ -263,7 +277,7 @@ fn sweep_points(
             )));
         }
         // A shift may be zero or negative; resolutions must be positive.
-        let positive = *flag != "--emitter-shift";
+        let positive = !matches!(*flag, "--emitter-shift" | "--start-shift");
         if values.is_empty()
             || values
                 .iter()
@@ -300,8 +314,24 @@ fn sweep_points(
         }
         points
     };
-    if !points.iter().any(|point| point.as_slice() == bench.default) {
-        points.push(bench.default.to_vec());
+    // A parameter the reference follows takes one value, or the points would be compared
+    // with references of different kinds.
+    for (index, parameter) in bench.parameters.iter().enumerate() {
+        let value = |point: &Vec<f64>| point.get(index).copied().map(f64::to_bits);
+        if parameter.follows_sweep
+            && points
+                .iter()
+                .any(|point| value(point) != points.first().and_then(value))
+        {
+            return Err(user_error(format!(
+                "bench physics: {} takes one value (the reference runs at it too)",
+                parameter.flag
+            )));
+        }
+    }
+    let default_point = bench.default_point(&points);
+    if !points.contains(&default_point) {
+        points.push(default_point);
     }
     Ok(points)
 }
@@ -360,15 +390,40 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
         )));
     };
     let reference_point = bench.reference_point(&points);
+    let default_point = bench.default_point(&points);
     let mut report_cases = Vec::new();
     let mut series: Vec<Series> = Vec::new();
     let mut totals = DefaultTotals::default();
     for case in (bench.cases)(&videos).user()? {
-        let (case_report, case_series) =
-            sweep_case(bench, &case, &points, &reference_point, &mut totals)?;
+        let (case_report, case_series) = sweep_case(
+            bench,
+            &case,
+            &points,
+            [&reference_point, &default_point],
+            &mut totals,
+        )?;
         report_cases.push(case_report);
         series.push(case_series);
     }
+    let default_summary = default_summary(bench, &totals);
+    let report: Value = json!({
+        "scenario": scenario.name(),
+        "simulated_seconds": bench.duration,
+        "default": point_json(bench, &default_point),
+        "errors": bench.errors.iter().map(|measure| measure.key).collect::<Vec<_>>(),
+        "cases": report_cases,
+        "default_summary": default_summary,
+    });
+    if let Some(path) = &settings.svg {
+        crate::util::write_atomic(path, svg_plot(&series, bench).as_bytes()).user()?;
+    }
+    print_report(&report)
+}
+
+/// The report's closing summary: the default point's largest plotted error, its run time and
+/// work as shares of the references', and per measure its error (decided measures: pooled over
+/// the cases' decided labels) against the simulator's tolerance.
+fn default_summary(bench: &PhysicsBench, totals: &DefaultTotals) -> Map<String, Value> {
     let mut default_summary = Map::new();
     default_summary.insert("largest_plotted_error".into(), json!(totals.error));
     if totals.reference_ms > 0.0 {
@@ -383,27 +438,30 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
             json!(totals.work as f64 / totals.reference_work as f64),
         );
     }
-    for (measure, error) in bench.errors.iter().zip(&totals.measures) {
+    for (index, (measure, largest)) in bench.errors.iter().zip(&totals.measures).enumerate() {
         let mut entry = Map::new();
+        // A decided measure's error is pooled over every case's decided labels; the largest
+        // case's error rides along (a case deciding two labels can show 0.5 on one run).
+        let error = match totals.pooled.get(index) {
+            Some((sum, labels)) if decided_labels(measure.reduction, &[]).is_some() => {
+                entry.insert("labels".into(), json!(labels));
+                entry.insert("largest_case_error".into(), json!(largest));
+                if *labels == 0 {
+                    0.0
+                } else {
+                    sum / *labels as f64
+                }
+            }
+            _ => *largest,
+        };
         entry.insert("error".into(), json!(error));
         if let Some(tolerance) = measure.tolerance {
             entry.insert("tolerance".into(), json!(tolerance));
-            entry.insert("within_tolerance".into(), json!(*error <= tolerance));
+            entry.insert("within_tolerance".into(), json!(error <= tolerance));
         }
         default_summary.insert(measure.key.to_string(), Value::Object(entry));
     }
-    let report: Value = json!({
-        "scenario": scenario.name(),
-        "simulated_seconds": bench.duration,
-        "default": point_json(bench, bench.default),
-        "errors": bench.errors.iter().map(|measure| measure.key).collect::<Vec<_>>(),
-        "cases": report_cases,
-        "default_summary": default_summary,
-    });
-    if let Some(path) = &settings.svg {
-        crate::util::write_atomic(path, svg_plot(&series, bench).as_bytes()).user()?;
-    }
-    print_report(&report)
+    default_summary
 }
 
 /// A log–log plot of the largest error against run time (ms), one polyline per case, each point
@@ -573,6 +631,71 @@ mod tests {
         let own = sweep_points(fluid, "fluid", &[]).unwrap();
         assert_eq!(own.len(), fluid.sweep.len());
         assert!(own.iter().any(|point| point.as_slice() == fluid.default));
+    }
+
+    #[test]
+    fn the_reference_and_the_default_follow_the_ensemble_size_swept() {
+        let cloth = bench(Scenario::Cloth);
+        let points = sweep_points(
+            cloth,
+            "cloth",
+            &[("--substeps", vec![5.0]), ("--ensemble-runs", vec![15.0])],
+        )
+        .unwrap();
+        // The default point, with fifteen runs, is added; the reference runs fifteen too.
+        assert_eq!(
+            points,
+            vec![
+                vec![16.0, 5.0, 1.0, 0.0, 15.0],
+                vec![16.0, 20.0, 1.0, 0.0, 15.0]
+            ]
+        );
+        assert_eq!(cloth.default_point(&points), points[1]);
+        assert_eq!(
+            cloth.reference_point(&points),
+            vec![31.0, 50.0, 4.0, 0.0, 15.0]
+        );
+        // Unswept, every point keeps the default ensemble of five.
+        let own = sweep_points(cloth, "cloth", &[]).unwrap();
+        assert!(
+            own.iter()
+                .all(|point| point[4].to_bits() == 5.0_f64.to_bits())
+        );
+        assert_eq!(cloth.reference_point(&own)[4].to_bits(), 5.0_f64.to_bits());
+        // Two sizes would compare points with references of different kinds.
+        let error = sweep_points(cloth, "cloth", &[("--ensemble-runs", vec![5.0, 15.0])])
+            .unwrap_err()
+            .error
+            .to_string();
+        assert!(error.contains("--ensemble-runs takes one value"), "{error}");
+        // A start shift may be negative or zero.
+        assert!(sweep_points(cloth, "cloth", &[("--start-shift", vec![-0.01, 0.0])]).is_ok());
+    }
+
+    #[test]
+    fn a_decided_measure_s_summary_error_is_pooled_over_the_cases_labels() {
+        let cloth = bench(Scenario::Cloth);
+        // Two cases: one deciding 40 contact labels with none wrong, one deciding 2 with one
+        // run in ten off on one of them (0.05 in that case).
+        let totals = DefaultTotals {
+            error: 0.05,
+            measures: vec![0.0, 0.0, 0.05, 0.3],
+            pooled: vec![(0.0, 10), (0.0, 12), (0.05 * 2.0, 42), (0.0, 0)],
+            ms: 5.0,
+            reference_ms: 100.0,
+            work: 0,
+            reference_work: 0,
+        };
+        let summary = default_summary(cloth, &totals);
+        let contact = &summary["contact_disagreement"];
+        assert!((contact["error"].as_f64().unwrap() - 0.1 / 42.0).abs() < 1e-15);
+        assert_eq!(contact["labels"], 42);
+        assert_eq!(contact["largest_case_error"], 0.05);
+        assert_eq!(contact["within_tolerance"], true);
+        // A plain mean is the largest case's, with no labels.
+        assert_eq!(summary["box_position_error"]["error"], 0.3);
+        assert!(summary["box_position_error"].get("labels").is_none());
+        assert_eq!(summary["run_time_share_of_reference"], 0.05);
     }
 
     #[test]

@@ -658,6 +658,7 @@ impl Cli {
                 sheet_resolution,
                 substeps,
                 iterations,
+                ensemble_runs,
                 videos,
             })) => Request::BenchPhysics(BenchPhysicsSettings {
                 scenario,
@@ -665,7 +666,13 @@ impl Cli {
                 sweep: physics_sweep(
                     steps,
                     grid_spacing,
-                    [particles_per_cell, sheet_resolution, substeps, iterations],
+                    [
+                        particles_per_cell,
+                        sheet_resolution,
+                        substeps,
+                        iterations,
+                        ensemble_runs.map(|runs| vec![runs]),
+                    ],
                     [emitter_shift, cfl, start_shift],
                 ),
                 videos,
@@ -735,17 +742,22 @@ impl Cli {
 }
 
 /// The `bench physics` sweep options that were given, with their flags (`counts`:
-/// `--particles-per-cell`, `--sheet-resolution`, `--substeps`, `--iterations`;
-/// `shifts_and_cfl`: `--emitter-shift`, `--cfl`, `--start-shift`).
+/// `--particles-per-cell`, `--sheet-resolution`, `--substeps`, `--iterations`,
+/// `--ensemble-runs`; `shifts_and_cfl`: `--emitter-shift`, `--cfl`, `--start-shift`).
 fn physics_sweep(
     steps: Option<Vec<f64>>,
     grid_spacing: Option<Vec<f64>>,
-    counts: [Option<Vec<u32>>; 4],
+    counts: [Option<Vec<u32>>; 5],
     shifts_and_cfl: [Option<Vec<f64>>; 3],
 ) -> Vec<(&'static str, Vec<f64>)> {
     let [emitter_shift, cfl, start_shift] = shifts_and_cfl;
-    let [per_cell, sheet_resolution, substeps, iterations] =
-        counts.map(|counts| counts.map(|counts| counts.into_iter().map(f64::from).collect()));
+    let [
+        per_cell,
+        sheet_resolution,
+        substeps,
+        iterations,
+        ensemble_runs,
+    ] = counts.map(|counts| counts.map(|counts| counts.into_iter().map(f64::from).collect()));
     [
         ("--dt", steps),
         ("--grid-spacing", grid_spacing),
@@ -756,6 +768,7 @@ fn physics_sweep(
         ("--sheet-resolution", sheet_resolution),
         ("--substeps", substeps),
         ("--iterations", iterations),
+        ("--ensemble-runs", ensemble_runs),
     ]
     .into_iter()
     .filter_map(|(flag, values)| values.map(|values| (flag, values)))

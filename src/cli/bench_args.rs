@@ -79,6 +79,10 @@ pub enum BenchCommand {
         /// Constraint iterations per substep to sweep (comma-separated; cloth).
         #[arg(long = "iterations", value_name = "N,...", value_delimiter = ',')]
         iterations: Option<Vec<u32>>,
+        /// Runs in every point's ensemble, the reference's too, their spawns 1 mm apart (one
+        /// value; cloth, default 5: more runs decide more labels and lower the chaos floor).
+        #[arg(long = "ensemble-runs", value_name = "N")]
+        ensemble_runs: Option<u32>,
         /// A video the cases are built from (repeatable; fluid, ball, cloth; default: the demo
         /// video).
         #[arg(long = "video", value_name = "DIR")]

@@ -91,6 +91,10 @@ pub struct Parameter {
     pub flag: &'static str,
     /// Its short name in the plot's point labels (`dt`, `dx`).
     pub label: &'static str,
+    /// Whether the reference and the default take this parameter's value from the sweep
+    /// instead of their own: an ensemble's size, which errors are comparable only at (a share
+    /// of fifteen runs against one of five means nothing). The sweep then holds one value of it.
+    pub follows_sweep: bool,
 }
 
 /// The setting cases without a closed form are compared against.
@@ -167,9 +171,29 @@ pub struct PhysicsBench {
 }
 
 impl PhysicsBench {
+    /// `point` with the parameters that follow the sweep ([`Parameter::follows_sweep`]) at the
+    /// value of `sweep`'s first point.
+    pub fn following(&self, point: &[f64], sweep: &[Vec<f64>]) -> Vec<f64> {
+        let mut point = point.to_vec();
+        for (index, parameter) in self.parameters.iter().enumerate() {
+            let swept = sweep.first().and_then(|first| first.get(index));
+            if let (true, Some(value), Some(slot)) =
+                (parameter.follows_sweep, swept, point.get_mut(index))
+            {
+                *slot = *value;
+            }
+        }
+        point
+    }
+
+    /// The default point for `sweep`.
+    pub fn default_point(&self, sweep: &[Vec<f64>]) -> Vec<f64> {
+        self.following(self.default, sweep)
+    }
+
     /// The reference point for `sweep`.
     pub fn reference_point(&self, sweep: &[Vec<f64>]) -> Vec<f64> {
-        match self.reference {
+        let point = match self.reference {
             Reference::Point(point) => point.to_vec(),
             Reference::TenfoldFiner => {
                 let finest = sweep
@@ -182,6 +206,7 @@ impl PhysicsBench {
                 }
                 point
             }
-        }
+        };
+        self.following(&point, sweep)
     }
 }

@@ -205,8 +205,10 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
 
 #[test]
 fn bench_physics_errors_name_the_simulator_and_the_option() {
-    let cases: [&[&str]; 5] = [
+    let cases: [&[&str]; 7] = [
         &["--scenario", "cloth", "--dt", "0.01"],
+        &["--scenario", "fluid", "--ensemble-runs", "15"],
+        &["--scenario", "cloth", "--ensemble-runs", "0"],
         &["--scenario", "fluid", "--dt", "0.01"],
         &["--scenario", "rope", "--video", "eval/demo/pulley_group/0"],
         &["--scenario", "fluid", "--grid-spacing", "0"],

@@ -22,6 +22,7 @@ pub const BENCH: PhysicsBench = PhysicsBench {
         key: "dt_s",
         flag: "--dt",
         label: "dt",
+        follows_sweep: false,
     }],
     sweep: &[
         &[2e-2],

@@ -45,21 +45,25 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
             key: "grid_spacing",
             flag: "--grid-spacing",
             label: "dx",
+            follows_sweep: false,
         },
         Parameter {
             key: "particles_per_cell_side",
             flag: "--particles-per-cell",
             label: "ppc",
+            follows_sweep: false,
         },
         Parameter {
             key: "cfl",
             flag: "--cfl",
             label: "cfl",
+            follows_sweep: false,
         },
         Parameter {
             key: "start_shift",
             flag: "--start-shift",
             label: "shift",
+            follows_sweep: false,
         },
     ],
     sweep: &[

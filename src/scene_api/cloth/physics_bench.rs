@@ -14,10 +14,10 @@
 //! A cloth dragged over boxes is chaotic: a box the cloth catches on an edge tips one way or the
 //! other on a millimetre, so no setting repeats the reference's label for a box on such a
 //! knife-edge (a single run at every point disagreed with the reference on 3–13% of poses). So
-//! every point is an ensemble of [`ENSEMBLE_SHIFTS`].len() runs, the cloth's spawn shifted along
-//! x by each, and the labels are shares of the ensemble's runs; the errors are over the labels
-//! every run of the reference's ensemble agrees on (decided), which a converged setting must
-//! repeat:
+//! every point is an ensemble of runs (`--ensemble-runs`, default [`ENSEMBLE_RUNS`]; the
+//! reference's ensemble is as large), the cloth's spawns 1 mm apart along x, and the labels are
+//! shares of the ensemble's runs; the errors are over the labels every run of the reference's
+//! ensemble agrees on (decided), which a converged setting must repeat:
 //! * `pose_disagreement`: of the boxes whose end pose the reference decides, the mean share of
 //!   runs ending in another pose;
 //! * `fall_disagreement`: the same for "fell over" (the end pose is not upright);
@@ -55,40 +55,50 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
             key: "sheet_resolution",
             flag: "--sheet-resolution",
             label: "n",
+            follows_sweep: false,
         },
         Parameter {
             key: "substeps",
             flag: "--substeps",
             label: "sub",
+            follows_sweep: false,
         },
         Parameter {
             key: "iterations",
             flag: "--iterations",
             label: "it",
+            follows_sweep: false,
         },
         Parameter {
             key: "start_shift",
             flag: "--start-shift",
             label: "shift",
+            follows_sweep: false,
+        },
+        Parameter {
+            key: "ensemble_runs",
+            flag: "--ensemble-runs",
+            label: "runs",
+            follows_sweep: true,
         },
     ],
     sweep: &[
-        &[16.0, 5.0, 2.0, 0.0],
-        &[16.0, 10.0, 2.0, 0.0],
-        &[16.0, 15.0, 1.0, 0.0],
-        &[16.0, 15.0, 2.0, 0.0],
-        &[16.0, 20.0, 1.0, 0.0],
-        &[16.0, 20.0, 2.0, 0.0],
-        &[16.0, 30.0, 1.0, 0.0],
-        &[21.0, 10.0, 2.0, 0.0],
-        &[31.0, 5.0, 2.0, 0.0],
-        &[31.0, 10.0, 1.0, 0.0],
-        &[31.0, 10.0, 2.0, 0.0],
-        &[31.0, 20.0, 2.0, 0.0],
-        &[31.0, 10.0, 4.0, 0.0],
+        &[16.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 15.0, 1.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 15.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 20.0, 1.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 30.0, 1.0, 0.0, ENSEMBLE_RUNS],
+        &[21.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[31.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[31.0, 10.0, 1.0, 0.0, ENSEMBLE_RUNS],
+        &[31.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[31.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS],
+        &[31.0, 10.0, 4.0, 0.0, ENSEMBLE_RUNS],
     ],
     default: &DEFAULT_POINT,
-    reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0]),
+    reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0, ENSEMBLE_RUNS]),
     errors: &[
         ErrorMeasure {
             key: "pose_disagreement",
@@ -127,19 +137,28 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     clippy::cast_precision_loss,
     reason = "a grid size, substeps and iterations are small whole numbers"
 )]
-const DEFAULT_POINT: [f64; 4] = [
+const DEFAULT_POINT: [f64; 5] = [
     INFERENCE_MODEL.resolution as f64,
     INFERENCE_MODEL.substeps as f64,
     INFERENCE_MODEL.iterations as f64,
     0.0,
+    ENSEMBLE_RUNS,
 ];
 
-/// The shifts along x of the cloth's spawn in the runs of a point's ensemble, units (steps of a
-/// fortieth of the particles' radius, 0.04; a twentieth of the 31 × 31 grid's spacing). Five runs,
-/// not three: with three, the reference's own setting shifted by 0.5 mm disagreed with its
-/// decided labels on 5.0% of poses and 3.7% of contacts; with five, on 2.5% and 2.2%
-/// (`docs/data/cloth.md`).
-pub(crate) const ENSEMBLE_SHIFTS: [f64; 5] = [-0.002, -0.001, 0.0, 0.001, 0.002];
+/// The runs of a point's ensemble by default (`--ensemble-runs`), their spawns 1 mm apart
+/// (a fortieth of the particles' radius, 0.04; a twentieth of the 31 × 31 grid's spacing) and
+/// centred on the point's own. Five runs, not three: with three, the reference's own setting
+/// shifted by 0.5 mm disagreed with its decided labels on 5.0% of poses and 3.7% of contacts;
+/// with five, on 2.5% and 2.2%; with fifteen, on 0.3% and 0.1% (`docs/data/cloth.md`), at three
+/// times the run time.
+const ENSEMBLE_RUNS: f64 = 5.0;
+
+/// The spacing of an ensemble's spawns along x, units (1 mm).
+const ENSEMBLE_SPACING: f64 = 0.001;
+
+/// The largest ensemble `--ensemble-runs` takes: 41 runs span 4 cm, a pixel and a half at the
+/// table.
+const MOST_ENSEMBLE_RUNS: f64 = 41.0;
 
 /// The release's spawn height offset is U(0, 0.3): the middle of its range, units.
 const SPAWN_OFFSET: f64 = 0.15;
@@ -212,10 +231,11 @@ fn release_spawn(centre: f64) -> Vec<Vector> {
 /// box's end pose (as its index among the poses), each pair's collision and touch labels, each
 /// box's end centre.
 fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, BenchError> {
-    let [resolution, substeps, iterations, start_shift] = *point else {
+    let [resolution, substeps, iterations, start_shift, runs] = *point else {
         return Err(BenchError::new(
             case,
-            "a sweep point needs a cloth resolution, substeps, iterations and a start shift",
+            "a sweep point needs a cloth resolution, substeps, iterations, a start shift and \
+             an ensemble size",
         ));
     };
     if !(start_shift.is_finite() && start_shift.abs() <= 1.0) {
@@ -245,14 +265,16 @@ fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, Ben
         iterations: whole(iterations, 1.0, 20.0, "iterations")?,
         ..ClothModel::default()
     };
-    let members = ENSEMBLE_SHIFTS.len() as f64;
+    let members = whole(runs, 1.0, MOST_ENSEMBLE_RUNS, "the ensemble's runs")?;
+    let shifts = ensemble_shifts(members);
+    let members = members as f64;
     let count = half.boxes.len();
     let mut poses = vec![0.0; count * Pose::ALL.len()];
     let mut falls = vec![0.0; count];
     let mut contacts = vec![0.0; count * count.saturating_sub(1)];
     let mut positions = vec![0.0; 3 * count];
     let mut work = 0_u64;
-    for shift in ENSEMBLE_SHIFTS {
+    for shift in shifts {
         let mut shifted = half.clone();
         for particle in &mut shifted.cloth.spawn {
             particle[0] += start_shift + shift;
@@ -285,8 +307,8 @@ fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, Ben
         work = work
             .saturating_add(u64::try_from(passes.saturating_mul(run.updates)).unwrap_or(u64::MAX));
     }
-    // Shares summed in fifths: snap them to whole fifths, so the unanimous ones are exactly 0
-    // or 1, which the decided reductions look for.
+    // Shares summed in steps of one run: snap them to whole runs, so the unanimous ones are
+    // exactly 0 or 1, which the decided reductions look for.
     for share in poses.iter_mut().chain(&mut falls).chain(&mut contacts) {
         *share = (*share * members).round() / members;
     }
@@ -294,6 +316,19 @@ fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, Ben
         quantities: vec![poses, falls, contacts, positions],
         work: Some(work),
     })
+}
+
+/// The spawn shifts along x of an ensemble of `runs`, units: [`ENSEMBLE_SPACING`] apart,
+/// centred on 0 (an odd ensemble holds the unshifted run).
+#[expect(
+    clippy::cast_precision_loss,
+    reason = "an ensemble has at most a few dozen runs"
+)]
+fn ensemble_shifts(runs: usize) -> Vec<f64> {
+    let centre = (runs as f64 - 1.0) / 2.0;
+    (0..runs)
+        .map(|run| (run as f64 - centre) * ENSEMBLE_SPACING)
+        .collect()
 }
 
 #[cfg(test)]
@@ -340,7 +375,7 @@ mod tests {
                 pull_distance: 1.0,
             },
         };
-        let output = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0]).unwrap();
+        let output = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 5.0]).unwrap();
         let upright = Pose::ALL.iter().position(|p| *p == Pose::Upright).unwrap();
         let mut one_hot = vec![0.0; 2 * Pose::ALL.len()];
         one_hot[upright] = 1.0;
@@ -358,19 +393,38 @@ mod tests {
         );
         // 25 particles × 2 substeps × 1 iteration × 288 updates, five runs.
         assert_eq!(output.work, Some(5 * 25 * 2 * 288));
-        assert!(measure(&half, "test", &[5.0, 2.0, 1.0]).is_err());
-        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, f64::NAN]).is_err());
+        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0]).is_err());
+        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, f64::NAN, 5.0]).is_err());
+        // An ensemble is whole runs, at least one, at most 41.
+        for runs in [0.0, 2.5, 42.0, f64::NAN] {
+            assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, runs]).is_err());
+        }
+        // Three runs: three runs' work, the same unanimous labels.
+        let three = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 3.0]).unwrap();
+        assert_eq!(three.work, Some(3 * 25 * 2 * 288));
+        assert_eq!(three.quantities[..3], output.quantities[..3]);
         // The benchmark's default is the inference setting.
         let model = ClothModel::default();
         let setting: Vec<u64> = [model.resolution, model.substeps, model.iterations]
             .iter()
             .map(|&n| f64::from(u32::try_from(n).unwrap()).to_bits())
-            .chain([0.0_f64.to_bits()])
+            .chain([0.0_f64.to_bits(), ENSEMBLE_RUNS.to_bits()])
             .collect();
         let default: Vec<u64> = BENCH.default.iter().map(|v| v.to_bits()).collect();
         assert_eq!(default, setting);
         // Shifted by 10 cm the far boxes still see nothing of the cloth.
-        let shifted = measure(&half, "test", &[5.0, 2.0, 1.0, 0.1]).unwrap();
+        let shifted = measure(&half, "test", &[5.0, 2.0, 1.0, 0.1, 5.0]).unwrap();
         assert_eq!(shifted.quantities[..3], output.quantities[..3]);
+    }
+
+    #[test]
+    fn an_ensemble_s_spawns_lie_a_millimetre_apart_around_the_point_s_own() {
+        assert_eq!(ensemble_shifts(5), vec![-0.002, -0.001, 0.0, 0.001, 0.002]);
+        assert_eq!(ensemble_shifts(1), vec![0.0]);
+        assert_eq!(ensemble_shifts(2), vec![-0.0005, 0.0005]);
+        let fifteen = ensemble_shifts(15);
+        assert_eq!(fifteen.len(), 15);
+        assert!((fifteen[0] + 0.007).abs() < 1e-15 && (fifteen[14] - 0.007).abs() < 1e-15);
+        assert!(fifteen[7].abs() < 1e-15);
     }
 }

@@ -57,16 +57,19 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
             key: "grid_spacing",
             flag: "--grid-spacing",
             label: "dx",
+            follows_sweep: false,
         },
         Parameter {
             key: "particles_per_cell_side",
             flag: "--particles-per-cell",
             label: "ppc",
+            follows_sweep: false,
         },
         Parameter {
             key: "emitter_shift",
             flag: "--emitter-shift",
             label: "shift",
+            follows_sweep: false,
         },
     ],
     sweep: &[
