@@ -646,14 +646,14 @@ mod tests {
         assert_eq!(
             points,
             vec![
-                vec![16.0, 5.0, 1.0, 0.0, 15.0],
-                vec![16.0, 20.0, 1.0, 0.0, 15.0]
+                vec![16.0, 5.0, 1.0, 0.0, 15.0, 0.4],
+                vec![16.0, 20.0, 1.0, 0.0, 15.0, 0.4]
             ]
         );
         assert_eq!(cloth.default_point(&points), points[1]);
         assert_eq!(
             cloth.reference_point(&points),
-            vec![31.0, 50.0, 4.0, 0.0, 15.0]
+            vec![31.0, 50.0, 4.0, 0.0, 15.0, 0.4]
         );
         // Unswept, every point keeps the default ensemble of five.
         let own = sweep_points(cloth, "cloth", &[]).unwrap();

@@ -659,6 +659,7 @@ impl Cli {
                 substeps,
                 iterations,
                 ensemble_runs,
+                radius_per_spacing,
                 videos,
             })) => Request::BenchPhysics(BenchPhysicsSettings {
                 scenario,
@@ -673,7 +674,7 @@ impl Cli {
                         iterations,
                         ensemble_runs.map(|runs| vec![runs]),
                     ],
-                    [emitter_shift, cfl, start_shift],
+                    [emitter_shift, cfl, start_shift, radius_per_spacing],
                 ),
                 videos,
             }),
@@ -743,14 +744,15 @@ impl Cli {
 
 /// The `bench physics` sweep options that were given, with their flags (`counts`:
 /// `--particles-per-cell`, `--sheet-resolution`, `--substeps`, `--iterations`,
-/// `--ensemble-runs`; `shifts_and_cfl`: `--emitter-shift`, `--cfl`, `--start-shift`).
+/// `--ensemble-runs`; `reals`: `--emitter-shift`, `--cfl`, `--start-shift`,
+/// `--radius-per-spacing`).
 fn physics_sweep(
     steps: Option<Vec<f64>>,
     grid_spacing: Option<Vec<f64>>,
     counts: [Option<Vec<u32>>; 5],
-    shifts_and_cfl: [Option<Vec<f64>>; 3],
+    reals: [Option<Vec<f64>>; 4],
 ) -> Vec<(&'static str, Vec<f64>)> {
-    let [emitter_shift, cfl, start_shift] = shifts_and_cfl;
+    let [emitter_shift, cfl, start_shift, radius_per_spacing] = reals;
     let [
         per_cell,
         sheet_resolution,
@@ -769,6 +771,7 @@ fn physics_sweep(
         ("--substeps", substeps),
         ("--iterations", iterations),
         ("--ensemble-runs", ensemble_runs),
+        ("--radius-per-spacing", radius_per_spacing),
     ]
     .into_iter()
     .filter_map(|(flag, values)| values.map(|values| (flag, values)))

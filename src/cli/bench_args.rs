@@ -83,6 +83,14 @@ pub enum BenchCommand {
         /// value; cloth, default 5: more runs decide more labels and lower the chaos floor).
         #[arg(long = "ensemble-runs", value_name = "N")]
         ensemble_runs: Option<u32>,
+        /// Cloth particles' radii per grid spacing to sweep (comma-separated; cloth, default
+        /// 0.4, the video's: the cloth is twice as thick as the radius).
+        #[arg(
+            long = "radius-per-spacing",
+            value_name = "R,...",
+            value_delimiter = ','
+        )]
+        radius_per_spacing: Option<Vec<f64>>,
         /// A video the cases are built from (repeatable; fluid, ball, cloth; default: the demo
         /// video).
         #[arg(long = "video", value_name = "DIR")]

@@ -1,6 +1,7 @@
 //! `bench physics --scenario cloth`: the cloth simulation's error against its run time over the
-//! cloth's grid (particles along a side), the solver's substeps per update and its iterations
-//! per substep, each point compared with a fine reference (the video's 31 × 31 grid, 50
+//! cloth's grid (particles along a side), the solver's substeps per update, its iterations per
+//! substep and the cloth particles' radius per grid spacing (`--radius-per-spacing`: the
+//! cloth's thickness at a coarser grid), each point compared with a fine reference (the video's 31 × 31 grid, 50
 //! substeps of 4 iterations: 200 constraint passes an update, the default's 16 × 16 grid 20). A
 //! fourth parameter shifts the cloth's spawn along x (`--start-shift`, default 0): the reference's
 //! setting shifted by a fraction of a millimetre measures how far the runs' chaos alone moves
@@ -45,6 +46,7 @@ use crate::physics::vector3::Vector;
 use crate::synth::cloth::layout::{
     CLOTH_HEIGHT, CLOTH_RESOLUTION, CLOTH_SIDE, CLOTH_START_Z, HALF_CENTRES,
 };
+use crate::synth::cloth::simulate::RADIUS_PER_SPACING;
 
 /// The cloth simulation's benchmark.
 pub(crate) const BENCH: PhysicsBench = PhysicsBench {
@@ -81,24 +83,30 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
             label: "runs",
             follows_sweep: true,
         },
+        Parameter {
+            key: "radius_per_spacing",
+            flag: "--radius-per-spacing",
+            label: "r",
+            follows_sweep: false,
+        },
     ],
     sweep: &[
-        &[16.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 15.0, 1.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 15.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 20.0, 1.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[16.0, 30.0, 1.0, 0.0, ENSEMBLE_RUNS],
-        &[21.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[31.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[31.0, 10.0, 1.0, 0.0, ENSEMBLE_RUNS],
-        &[31.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[31.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS],
-        &[31.0, 10.0, 4.0, 0.0, ENSEMBLE_RUNS],
+        &[16.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 15.0, 1.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 15.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 20.0, 1.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[16.0, 30.0, 1.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[21.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[31.0, 5.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[31.0, 10.0, 1.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[31.0, 10.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[31.0, 20.0, 2.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
+        &[31.0, 10.0, 4.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING],
     ],
     default: &DEFAULT_POINT,
-    reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0, ENSEMBLE_RUNS]),
+    reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING]),
     errors: &[
         ErrorMeasure {
             key: "pose_disagreement",
@@ -137,12 +145,13 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     clippy::cast_precision_loss,
     reason = "a grid size, substeps and iterations are small whole numbers"
 )]
-const DEFAULT_POINT: [f64; 5] = [
+const DEFAULT_POINT: [f64; 6] = [
     INFERENCE_MODEL.resolution as f64,
     INFERENCE_MODEL.substeps as f64,
     INFERENCE_MODEL.iterations as f64,
     0.0,
     ENSEMBLE_RUNS,
+    INFERENCE_MODEL.radius_per_spacing,
 ];
 
 /// The runs of a point's ensemble by default (`--ensemble-runs`), their spawns 1 mm apart
@@ -231,13 +240,31 @@ fn release_spawn(centre: f64) -> Vec<Vector> {
 /// box's end pose (as its index among the poses), each pair's collision and touch labels, each
 /// box's end centre.
 fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, BenchError> {
-    let [resolution, substeps, iterations, start_shift, runs] = *point else {
+    let [
+        resolution,
+        substeps,
+        iterations,
+        start_shift,
+        runs,
+        radius_per_spacing,
+    ] = *point
+    else {
         return Err(BenchError::new(
             case,
-            "a sweep point needs a cloth resolution, substeps, iterations, a start shift and \
-             an ensemble size",
+            "a sweep point needs a cloth resolution, substeps, iterations, a start shift, an \
+             ensemble size and a particle radius per spacing",
         ));
     };
+    // Below a tenth of the spacing the cloth's particles leave gaps boxes fall through; above
+    // half of it neighbours overlap at rest.
+    if !(0.1..=0.5).contains(&radius_per_spacing) {
+        return Err(BenchError::new(
+            case,
+            format!(
+                "the particle radius per spacing must lie within 0.1 to 0.5, not {radius_per_spacing}"
+            ),
+        ));
+    }
     if !(start_shift.is_finite() && start_shift.abs() <= 1.0) {
         return Err(BenchError::new(
             case,
@@ -263,6 +290,7 @@ fn measure(half: &SeenHalf, case: &str, point: &[f64]) -> Result<CaseOutput, Ben
         resolution: whole(resolution, 3.0, 61.0, "the cloth resolution")?,
         substeps: whole(substeps, 1.0, 200.0, "substeps")?,
         iterations: whole(iterations, 1.0, 20.0, "iterations")?,
+        radius_per_spacing,
         ..ClothModel::default()
     };
     let members = whole(runs, 1.0, MOST_ENSEMBLE_RUNS, "the ensemble's runs")?;
@@ -375,7 +403,7 @@ mod tests {
                 pull_distance: 1.0,
             },
         };
-        let output = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 5.0]).unwrap();
+        let output = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 5.0, 0.4]).unwrap();
         let upright = Pose::ALL.iter().position(|p| *p == Pose::Upright).unwrap();
         let mut one_hot = vec![0.0; 2 * Pose::ALL.len()];
         one_hot[upright] = 1.0;
@@ -393,14 +421,15 @@ mod tests {
         );
         // 25 particles × 2 substeps × 1 iteration × 288 updates, five runs.
         assert_eq!(output.work, Some(5 * 25 * 2 * 288));
-        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0]).is_err());
-        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, f64::NAN, 5.0]).is_err());
+        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 5.0]).is_err());
+        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 5.0, 0.6]).is_err());
+        assert!(measure(&half, "test", &[5.0, 2.0, 1.0, f64::NAN, 5.0, 0.4]).is_err());
         // An ensemble is whole runs, at least one, at most 41.
         for runs in [0.0, 2.5, 42.0, f64::NAN] {
-            assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, runs]).is_err());
+            assert!(measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, runs, 0.4]).is_err());
         }
         // Three runs: three runs' work, the same unanimous labels.
-        let three = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 3.0]).unwrap();
+        let three = measure(&half, "test", &[5.0, 2.0, 1.0, 0.0, 3.0, 0.4]).unwrap();
         assert_eq!(three.work, Some(3 * 25 * 2 * 288));
         assert_eq!(three.quantities[..3], output.quantities[..3]);
         // The benchmark's default is the inference setting.
@@ -408,12 +437,16 @@ mod tests {
         let setting: Vec<u64> = [model.resolution, model.substeps, model.iterations]
             .iter()
             .map(|&n| f64::from(u32::try_from(n).unwrap()).to_bits())
-            .chain([0.0_f64.to_bits(), ENSEMBLE_RUNS.to_bits()])
+            .chain([
+                0.0_f64.to_bits(),
+                ENSEMBLE_RUNS.to_bits(),
+                model.radius_per_spacing.to_bits(),
+            ])
             .collect();
         let default: Vec<u64> = BENCH.default.iter().map(|v| v.to_bits()).collect();
         assert_eq!(default, setting);
         // Shifted by 10 cm the far boxes still see nothing of the cloth.
-        let shifted = measure(&half, "test", &[5.0, 2.0, 1.0, 0.1, 5.0]).unwrap();
+        let shifted = measure(&half, "test", &[5.0, 2.0, 1.0, 0.1, 5.0, 0.4]).unwrap();
         assert_eq!(shifted.quantities[..3], output.quantities[..3]);
     }
 

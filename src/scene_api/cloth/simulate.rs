@@ -83,6 +83,10 @@ pub struct ClothModel {
     /// The solver's friction per unit of the release's coefficient (the truth solver's
     /// calibration, [`FRICTION_SCALE`]).
     pub friction_scale: f64,
+    /// A cloth particle's radius per grid spacing (the generator's [`RADIUS_PER_SPACING`]): the
+    /// cloth's thickness is twice the radius, so a coarser grid at the same ratio simulates a
+    /// thicker cloth, which holds boxes it lies between further apart.
+    pub radius_per_spacing: f64,
 }
 
 /// The default inference setting, a constant so that `bench physics` takes its default point from
@@ -92,6 +96,7 @@ pub const INFERENCE_MODEL: ClothModel = ClothModel {
     substeps: 20,
     iterations: 1,
     friction_scale: FRICTION_SCALE,
+    radius_per_spacing: RADIUS_PER_SPACING,
 };
 
 impl Default for ClothModel {
@@ -326,7 +331,7 @@ fn spawn_sheet(cloth: &SeenCloth, model: &ClothModel) -> Sheet {
         side,
         corner: [low[0], height, low[2]],
         mass: CLOTH_AREAL_MASS * side * side,
-        particle_radius: RADIUS_PER_SPACING * spacing,
+        particle_radius: model.radius_per_spacing * spacing,
         properties: SheetProperties {
             stretch_compliance: cloth.stretch_compliance,
             max_bending: cloth.max_bending * spacing_ratio * spacing_ratio,
