@@ -16,7 +16,7 @@ use crate::scene_api::{DynamicsBackend, PerceptionBackend};
 use crate::synth::appearance::Appearance;
 use crate::synth::video::FrameOutput;
 
-use super::bench_args::BenchCommand;
+use super::bench_args::{BenchCommand, PhysicsArgs};
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
 /// runs in a sandbox against the scene API, and answers are scored per option and per question.
@@ -646,38 +646,9 @@ impl Cli {
                 per_question: args.per_question,
                 json: args.json,
             }),
-            Some(Command::Bench(BenchCommand::Physics {
-                scenario,
-                svg,
-                steps,
-                grid_spacing,
-                particles_per_cell,
-                emitter_shift,
-                cfl,
-                start_shift,
-                sheet_resolution,
-                substeps,
-                iterations,
-                ensemble_runs,
-                radius_per_spacing,
-                videos,
-            })) => Request::BenchPhysics(BenchPhysicsSettings {
-                scenario,
-                svg,
-                sweep: physics_sweep(
-                    steps,
-                    grid_spacing,
-                    [
-                        particles_per_cell,
-                        sheet_resolution,
-                        substeps,
-                        iterations,
-                        ensemble_runs.map(|runs| vec![runs]),
-                    ],
-                    [emitter_shift, cfl, start_shift, radius_per_spacing],
-                ),
-                videos,
-            }),
+            Some(Command::Bench(BenchCommand::Physics(args))) => {
+                Request::BenchPhysics(bench_physics_settings(args))
+            }
             Some(Command::Perception(PerceptionCommand::FitColors {
                 data,
                 scenario,
@@ -739,6 +710,43 @@ impl Cli {
                 })
             }
         }
+    }
+}
+
+/// The `bench physics` settings from its arguments.
+fn bench_physics_settings(args: PhysicsArgs) -> BenchPhysicsSettings {
+    let PhysicsArgs {
+        scenario,
+        svg,
+        steps,
+        grid_spacing,
+        particles_per_cell,
+        emitter_shift,
+        cfl,
+        start_shift,
+        sheet_resolution,
+        substeps,
+        iterations,
+        ensemble_runs,
+        radius_per_spacing,
+        videos,
+    } = args;
+    BenchPhysicsSettings {
+        scenario,
+        svg,
+        sweep: physics_sweep(
+            steps,
+            grid_spacing,
+            [
+                particles_per_cell,
+                sheet_resolution,
+                substeps,
+                iterations,
+                ensemble_runs.map(|runs| vec![runs]),
+            ],
+            [emitter_shift, cfl, start_shift, radius_per_spacing],
+        ),
+        videos,
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::Subcommand;
+use clap::{Args, Subcommand};
 
 use super::args::FrameSelectionArgs;
 use crate::dataset::Scenario;
@@ -27,75 +27,7 @@ pub enum BenchCommand {
     },
     /// Simulator accuracy: error against run time over a sweep of time steps (closed forms or a
     /// fine reference), as JSON, with an optional SVG plot.
-    Physics {
-        /// The scenario whose simulator is measured (default: the one scenario with a
-        /// simulator benchmark).
-        #[arg(long, value_name = "SCENARIO")]
-        scenario: Option<Scenario>,
-        /// Also write the plot of error against run time here.
-        #[arg(long, value_name = "FILE")]
-        svg: Option<PathBuf>,
-        /// Time steps to sweep, s (comma-separated; rope default 0.02 down to 0.0001).
-        #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
-        steps: Option<Vec<f64>>,
-        /// Grid spacings to sweep, scene units (comma-separated; fluid, ball).
-        #[arg(long = "grid-spacing", value_name = "DX,...", value_delimiter = ',')]
-        grid_spacing: Option<Vec<f64>>,
-        /// Particles per cell along each axis to sweep (comma-separated; fluid, ball).
-        #[arg(
-            long = "particles-per-cell",
-            value_name = "N,...",
-            value_delimiter = ','
-        )]
-        particles_per_cell: Option<Vec<u32>>,
-        /// Shifts of every emitter along x to sweep, scene units (comma-separated; fluid: a
-        /// shift at the reference's resolution measures the flow's chaos).
-        #[arg(
-            long = "emitter-shift",
-            value_name = "UNITS,...",
-            value_delimiter = ',',
-            allow_negative_numbers = true
-        )]
-        emitter_shift: Option<Vec<f64>>,
-        /// CFL numbers of the substep to sweep (comma-separated; ball).
-        #[arg(long = "cfl", value_name = "C,...", value_delimiter = ',')]
-        cfl: Option<Vec<f64>>,
-        /// Shifts of every ball's start (ball) or the cloth's spawn (cloth) along x to sweep,
-        /// scene units (comma-separated; a shift at the reference's setting measures the runs'
-        /// chaos).
-        #[arg(
-            long = "start-shift",
-            value_name = "UNITS,...",
-            value_delimiter = ',',
-            allow_negative_numbers = true
-        )]
-        start_shift: Option<Vec<f64>>,
-        /// Cloth grid resolutions (particles along a side) to sweep (comma-separated; cloth).
-        #[arg(long = "sheet-resolution", value_name = "N,...", value_delimiter = ',')]
-        sheet_resolution: Option<Vec<u32>>,
-        /// Solver substeps per update to sweep (comma-separated; cloth).
-        #[arg(long = "substeps", value_name = "N,...", value_delimiter = ',')]
-        substeps: Option<Vec<u32>>,
-        /// Constraint iterations per substep to sweep (comma-separated; cloth).
-        #[arg(long = "iterations", value_name = "N,...", value_delimiter = ',')]
-        iterations: Option<Vec<u32>>,
-        /// Runs in every point's ensemble, the reference's too, their spawns 1 mm apart (one
-        /// value; cloth, default 5: more runs decide more labels and lower the chaos floor).
-        #[arg(long = "ensemble-runs", value_name = "N")]
-        ensemble_runs: Option<u32>,
-        /// Cloth particles' radii per grid spacing to sweep (comma-separated; cloth, default
-        /// 0.4, the video's: the cloth is twice as thick as the radius).
-        #[arg(
-            long = "radius-per-spacing",
-            value_name = "R,...",
-            value_delimiter = ','
-        )]
-        radius_per_spacing: Option<Vec<f64>>,
-        /// A video the cases are built from (repeatable; fluid, ball, cloth; default: the demo
-        /// video).
-        #[arg(long = "video", value_name = "DIR")]
-        videos: Vec<PathBuf>,
-    },
+    Physics(PhysicsArgs),
     /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
     /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle
     /// substeps per second. `benches/mpm88.sh` runs Taichi beside it; `--material` swaps the
@@ -167,4 +99,76 @@ pub enum BenchCommand {
         #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
         rpm_seconds: f64,
     },
+}
+
+/// `bench physics` arguments.
+#[derive(Debug, Args)]
+pub struct PhysicsArgs {
+    /// The scenario whose simulator is measured (default: the one scenario with a
+    /// simulator benchmark).
+    #[arg(long, value_name = "SCENARIO")]
+    pub scenario: Option<Scenario>,
+    /// Also write the plot of error against run time here.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+    /// Time steps to sweep, s (comma-separated; rope default 0.02 down to 0.0001).
+    #[arg(long = "dt", value_name = "S,...", value_delimiter = ',')]
+    pub steps: Option<Vec<f64>>,
+    /// Grid spacings to sweep, scene units (comma-separated; fluid, ball).
+    #[arg(long = "grid-spacing", value_name = "DX,...", value_delimiter = ',')]
+    pub grid_spacing: Option<Vec<f64>>,
+    /// Particles per cell along each axis to sweep (comma-separated; fluid, ball).
+    #[arg(
+        long = "particles-per-cell",
+        value_name = "N,...",
+        value_delimiter = ','
+    )]
+    pub particles_per_cell: Option<Vec<u32>>,
+    /// Shifts of every emitter along x to sweep, scene units (comma-separated; fluid: a
+    /// shift at the reference's resolution measures the flow's chaos).
+    #[arg(
+        long = "emitter-shift",
+        value_name = "UNITS,...",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub emitter_shift: Option<Vec<f64>>,
+    /// CFL numbers of the substep to sweep (comma-separated; ball).
+    #[arg(long = "cfl", value_name = "C,...", value_delimiter = ',')]
+    pub cfl: Option<Vec<f64>>,
+    /// Shifts of every ball's start (ball) or the cloth's spawn (cloth) along x to sweep,
+    /// scene units (comma-separated; a shift at the reference's setting measures the runs'
+    /// chaos).
+    #[arg(
+        long = "start-shift",
+        value_name = "UNITS,...",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub start_shift: Option<Vec<f64>>,
+    /// Cloth grid resolutions (particles along a side) to sweep (comma-separated; cloth).
+    #[arg(long = "sheet-resolution", value_name = "N,...", value_delimiter = ',')]
+    pub sheet_resolution: Option<Vec<u32>>,
+    /// Solver substeps per update to sweep (comma-separated; cloth).
+    #[arg(long = "substeps", value_name = "N,...", value_delimiter = ',')]
+    pub substeps: Option<Vec<u32>>,
+    /// Constraint iterations per substep to sweep (comma-separated; cloth).
+    #[arg(long = "iterations", value_name = "N,...", value_delimiter = ',')]
+    pub iterations: Option<Vec<u32>>,
+    /// Runs in every point's ensemble, the reference's too, their spawns 1 mm apart (one
+    /// value; cloth, default 5: more runs decide more labels and lower the chaos floor).
+    #[arg(long = "ensemble-runs", value_name = "N")]
+    pub ensemble_runs: Option<u32>,
+    /// Cloth particles' radii per grid spacing to sweep (comma-separated; cloth, default
+    /// 0.4, the video's: the cloth is twice as thick as the radius).
+    #[arg(
+        long = "radius-per-spacing",
+        value_name = "R,...",
+        value_delimiter = ','
+    )]
+    pub radius_per_spacing: Option<Vec<f64>>,
+    /// A video the cases are built from (repeatable; fluid, ball, cloth; default: the demo
+    /// video).
+    #[arg(long = "video", value_name = "DIR")]
+    pub videos: Vec<PathBuf>,
 }
