@@ -443,7 +443,7 @@ fn default_summary(bench: &PhysicsBench, totals: &DefaultTotals) -> Map<String, 
         // A decided measure's error is pooled over every case's decided labels; the largest
         // case's error rides along (a case deciding two labels can show 0.5 on one run).
         let error = match totals.pooled.get(index) {
-            Some((sum, labels)) if decided_labels(measure.reduction, &[]).is_some() => {
+            Some((sum, labels)) if measure.reduction.is_decided() => {
                 entry.insert("labels".into(), json!(labels));
                 entry.insert("largest_case_error".into(), json!(largest));
                 if *labels == 0 {

@@ -128,6 +128,19 @@ pub enum Reduction {
     DecidedCategories(usize),
 }
 
+impl Reduction {
+    /// Whether the reduction is taken over the labels the reference decides (its ensemble's
+    /// runs agree), so that its errors pool over those labels (categories in groups of none
+    /// decide nothing).
+    pub fn is_decided(self) -> bool {
+        match self {
+            Reduction::DecidedMean => true,
+            Reduction::DecidedCategories(size) => size > 0,
+            Reduction::Largest | Reduction::Mean | Reduction::Mismatch => false,
+        }
+    }
+}
+
 /// One error measure of a benchmark.
 #[derive(Debug, Clone, Copy)]
 pub struct ErrorMeasure {

@@ -1,11 +1,11 @@
 //! `bench physics --scenario cloth`: the cloth simulation's error against its run time over the
 //! cloth's grid (particles along a side), the solver's substeps per update, its iterations per
 //! substep and the cloth particles' radius per grid spacing (`--radius-per-spacing`: the
-//! cloth's thickness at a coarser grid), each point compared with a fine reference (the video's 31 × 31 grid, 50
-//! substeps of 4 iterations: 200 constraint passes an update, the default's 16 × 16 grid 20). A
-//! fourth parameter shifts the cloth's spawn along x (`--start-shift`, default 0): the reference's
-//! setting shifted by a fraction of a millimetre measures how far the runs' chaos alone moves
-//! the labels, the floor under every setting's error.
+//! cloth's thickness at a coarser grid), each point compared with a fine reference (the video's
+//! 31 × 31 grid, 50 substeps of 4 iterations: 200 constraint passes an update, the default's
+//! 16 × 16 grid 20). A further parameter shifts the cloth's spawn along x (`--start-shift`,
+//! default 0): the reference's setting shifted by a fraction of a millimetre measures how far
+//! the runs' chaos alone moves the labels, the floor under every setting's error.
 //!
 //! The cases are the halves of generated videos (default: the demo videos), as the release made
 //! them: the boxes at their start poses with their true masses, the cloth with its true stretch,
