@@ -10,7 +10,9 @@
 //! measured, and the report ends with its largest error and its run time as a share of the
 //! reference's. A case with measures over the labels the reference decides (its ensemble's runs
 //! agree) also says how many labels each was taken over (`decided_labels`): what its errors can
-//! tell apart.
+//! tell apart, and each point the decided labels it gets otherwise in some run
+//! (`differing_labels`, by the names the case gives them). With `--reference-cache DIR`, reference runs are stored and reused
+//! (`bench_reference`): a sweep of new points over the same cases runs only those points.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -21,6 +23,7 @@ use std::time::Instant;
 use serde_json::{Map, Value, json};
 
 use super::bench::print_report;
+use super::bench_reference::ReferenceCache;
 use super::error::{AppError, Classify as _, user_error};
 use super::settings::BenchPhysicsSettings;
 use crate::physics::bench::{
@@ -56,22 +59,47 @@ struct DefaultTotals {
 }
 
 /// One case over the sweep: its report and its plot series; adds the default point's figures
-/// to `totals`. Progress goes to stderr.
+/// to `totals`. The reference run comes from `cache` when stored there, and is stored there
+/// when run. Progress goes to stderr.
 fn sweep_case(
     bench: &PhysicsBench,
     case: &BenchCase,
     points: &[Vec<f64>],
     [reference_point, default_point]: [&[f64]; 2],
+    cache: Option<&ReferenceCache>,
     totals: &mut DefaultTotals,
 ) -> Result<(Value, Series), AppError> {
     let mut progress = std::io::stderr().lock();
+    let mut reference_cached = false;
     let (reference, reference_kind, reference_run) = if let Some(exact) = &case.exact {
         (exact.clone(), "closed form".to_string(), None)
     } else {
         let words = point_words(bench, reference_point);
         let _ = write!(progress, "{}: reference ({words})... ", case.name);
-        let (output, ms) = simulate(case, reference_point)?;
-        let _ = writeln!(progress, "{:.1} s", ms / 1e3);
+        let stored = match cache.map(|cache| cache.load(case, reference_point)) {
+            Some(Ok(stored)) => stored,
+            Some(Err(reason)) => {
+                let _ = write!(progress, "(warning: {reason}; running it again) ");
+                None
+            }
+            None => None,
+        };
+        let (output, ms) = if let Some(stored) = stored {
+            reference_cached = true;
+            let _ = writeln!(
+                progress,
+                "stored ({:.1} s when run)",
+                stored.run_time_ms / 1e3
+            );
+            (stored.output, stored.run_time_ms)
+        } else {
+            let (output, ms) = simulate(case, reference_point)?;
+            let _ = writeln!(progress, "{:.1} s", ms / 1e3);
+            if let Some(cache) = cache {
+                cache.store(case, reference_point, &output, ms)?;
+            }
+            (output, ms)
+        };
         (output.quantities, words, Some((ms, output.work)))
     };
     // How many labels each decided measure is taken over: what its errors can tell.
@@ -105,6 +133,10 @@ fn sweep_case(
         let mut row = point_json(bench, point);
         for (measure, error) in bench.errors.iter().zip(&case_errors) {
             row.insert(measure.key.to_string(), json!(error));
+        }
+        let differing = differing_labels(bench.errors, &case.label_names, &quantities, &reference);
+        if !differing.is_empty() {
+            row.insert("differing_labels".into(), Value::Array(differing));
         }
         row.insert("run_time_ms".into(), json!(best));
         if let Some(work) = work {
@@ -147,6 +179,9 @@ fn sweep_case(
     let mut case_report = Map::new();
     case_report.insert("case".into(), json!(case.name));
     case_report.insert("reference".into(), json!(reference_kind));
+    if reference_cached {
+        case_report.insert("reference_stored".into(), json!(true));
+    }
     if let Some((reference_ms, reference_work)) = reference_run {
         case_report.insert("reference_run_time_ms".into(), json!(reference_ms));
         if let Some(work) = reference_work {
@@ -205,6 +240,65 @@ fn errors(measures: &[ErrorMeasure], measured: &Measured, reference: &Measured) 
             }
         })
         .collect()
+}
+
+/// The decided labels a point gets otherwise in some run than the reference: per label its
+/// measure, its name (or `#index`), the reference's share of runs (0 or 1; a category's 1)
+/// and the point's.
+fn differing_labels(
+    measures: &[ErrorMeasure],
+    names: &[Vec<String>],
+    measured: &Measured,
+    reference: &Measured,
+) -> Vec<Value> {
+    let mut differing = Vec::new();
+    for (index, (measure, expected)) in measures.iter().zip(reference).enumerate() {
+        let Some(got) = measured
+            .get(index)
+            .filter(|got| got.len() == expected.len())
+        else {
+            continue;
+        };
+        let name = |label: usize| {
+            names
+                .get(index)
+                .and_then(|names| names.get(label))
+                .cloned()
+                .unwrap_or_else(|| format!("#{label}"))
+        };
+        let mut push = |label: usize, reference: f64, share: f64| {
+            differing.push(json!({
+                "measure": measure.key,
+                "label": name(label),
+                "reference": reference,
+                "share": share,
+            }));
+        };
+        match measure.reduction {
+            Reduction::DecidedMean => {
+                for (label, (got, expected)) in got.iter().zip(expected).enumerate() {
+                    if is_label(*expected) && (got - expected).abs() > 1e-9 {
+                        push(label, *expected, *got);
+                    }
+                }
+            }
+            Reduction::DecidedCategories(size) if size > 0 => {
+                for (group, (got, expected)) in
+                    got.chunks(size).zip(expected.chunks(size)).enumerate()
+                {
+                    let held = expected.iter().position(|share| *share > 0.5);
+                    if let (true, Some(category)) = (decided_group(expected), held) {
+                        let share = got.get(category).copied().unwrap_or(0.0);
+                        if (share - 1.0).abs() > 1e-9 {
+                            push(group * size + category, 1.0, share);
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    differing
 }
 
 /// Whether a share is a label: the reference's ensemble agreed on it (0 or 1).
@@ -389,6 +483,11 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
             "bench physics: the {scenario} simulator builds its own cases; --video is not used"
         )));
     };
+    let cache = settings
+        .reference_cache
+        .as_deref()
+        .map(|folder| ReferenceCache::open(folder, scenario.name()))
+        .transpose()?;
     let reference_point = bench.reference_point(&points);
     let default_point = bench.default_point(&points);
     let mut report_cases = Vec::new();
@@ -400,6 +499,7 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
             &case,
             &points,
             [&reference_point, &default_point],
+            cache.as_ref(),
             &mut totals,
         )?;
         report_cases.push(case_report);
@@ -748,6 +848,36 @@ mod tests {
             Some(1)
         );
         assert_eq!(decided_labels(Reduction::Mean, &[1.0]), None);
+        // The labels it gets otherwise: the decided ones that differ at all, by name where
+        // the case names them (the categories' first group, by its reference category).
+        let names = vec![
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            vec![
+                "a fell".to_string(),
+                "b fell".to_string(),
+                "c fell".to_string(),
+            ],
+        ];
+        let differing = differing_labels(&measures, &names, &measured, &expected);
+        let listed: Vec<String> = differing
+            .iter()
+            .map(|label| {
+                format!(
+                    "{} {} {}",
+                    label["label"], label["reference"], label["share"]
+                )
+            })
+            .collect();
+        assert_eq!(
+            listed,
+            [
+                "\"a fell\" 1.0 0.5",
+                "\"c fell\" 1.0 0.0",
+                "\"#1\" 1.0 0.75"
+            ]
+        );
     }
 
     #[test]

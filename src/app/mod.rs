@@ -9,6 +9,7 @@ mod bench;
 mod bench_inference;
 mod bench_mpm;
 mod bench_physics;
+mod bench_reference;
 mod error;
 mod evaluate;
 mod exec;

@@ -212,6 +212,8 @@ pub struct BenchPhysicsSettings {
     /// Videos the cases are built from, for simulators that need scenes (empty: the
     /// scenario's demo video).
     pub videos: Vec<PathBuf>,
+    /// Where reference runs are stored and reused (`--reference-cache`).
+    pub reference_cache: Option<PathBuf>,
 }
 
 /// `bench llm` settings.

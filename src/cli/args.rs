@@ -730,6 +730,7 @@ fn bench_physics_settings(args: PhysicsArgs) -> BenchPhysicsSettings {
         ensemble_runs,
         radius_per_spacing,
         videos,
+        reference_cache,
     } = args;
     BenchPhysicsSettings {
         scenario,
@@ -747,6 +748,7 @@ fn bench_physics_settings(args: PhysicsArgs) -> BenchPhysicsSettings {
             [emitter_shift, cfl, start_shift, radius_per_spacing],
         ),
         videos,
+        reference_cache,
     }
 }
 

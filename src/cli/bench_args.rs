@@ -171,4 +171,9 @@ pub struct PhysicsArgs {
     /// video).
     #[arg(long = "video", value_name = "DIR")]
     pub videos: Vec<PathBuf>,
+    /// Store reference runs in this folder and reuse them: a later sweep over the same cases
+    /// runs only its own points (an entry is keyed by this executable, the case's video and
+    /// the reference's setting).
+    #[arg(long = "reference-cache", value_name = "DIR")]
+    pub reference_cache: Option<PathBuf>,
 }

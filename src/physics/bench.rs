@@ -40,6 +40,15 @@ pub fn video_name(video: &Path) -> String {
     parts.into_iter().rev().collect::<Vec<_>>().join("/")
 }
 
+/// The digest of an input file a case is built from (its [`BenchCase::inputs`]).
+///
+/// # Errors
+/// The file cannot be read.
+pub fn input_digest(case: &str, path: &Path) -> Result<String, BenchError> {
+    let bytes = fs_err::read(path).map_err(|error| BenchError::new(case, error))?;
+    Ok(crate::util::content_hash(&bytes))
+}
+
 /// A sweep point: one value per parameter of the benchmark, in the order of
 /// [`PhysicsBench::parameters`].
 pub type SweepPoint = [f64];
@@ -68,6 +77,14 @@ pub struct BenchCase {
     /// The compared quantities by closed form; `None` when the case has none (a run at
     /// [`PhysicsBench::reference`] is the reference).
     pub exact: Option<Measured>,
+    /// A digest of what the case is built from outside the code (its video's annotation,
+    /// [`input_digest`]); empty when the code alone builds it. With the executable's own
+    /// digest, it keys the case's stored reference run (`bench physics --reference-cache`).
+    pub inputs: String,
+    /// Per error measure, a name for each of its quantities (`touch Red Pillar – Blue Plate`,
+    /// `Green Plate supine`), by which the report lists the decided labels a point gets
+    /// otherwise than the reference; empty where the quantities are unnamed.
+    pub label_names: Vec<Vec<String>>,
     /// Runs the case at a sweep point: the compared quantities.
     pub run: CaseRun,
 }
@@ -78,6 +95,7 @@ impl std::fmt::Debug for BenchCase {
             .debug_struct("BenchCase")
             .field("name", &self.name)
             .field("exact", &self.exact)
+            .field("inputs", &self.inputs)
             .finish_non_exhaustive()
     }
 }

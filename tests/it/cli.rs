@@ -204,9 +204,75 @@ fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
 }
 
 #[test]
+fn bench_physics_stores_reference_runs_and_compares_with_them_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("references");
+    let run = || {
+        let output = contphy(
+            &root(),
+            &[
+                "bench",
+                "physics",
+                "--scenario",
+                "rope",
+                "--dt",
+                "0.02,0.01",
+                "--reference-cache",
+                cache.to_str().unwrap(),
+            ],
+        );
+        assert!(output.status.success(), "{}", stderr(&output));
+        let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+        (report, stderr(&output))
+    };
+    let (first, first_progress) = run();
+    let (second, second_progress) = run();
+    let cases = |report: &serde_json::Value| report["cases"].as_array().unwrap().clone();
+    let run_references = cases(&first)
+        .iter()
+        .filter(|case| case["reference"] != "closed form")
+        .count();
+    assert!(run_references > 0, "{first}");
+    assert!(!first_progress.contains("stored ("), "{first_progress}");
+    for (before, after) in cases(&first).iter().zip(&cases(&second)) {
+        assert_eq!(before["case"], after["case"]);
+        let ran = before["reference"] != "closed form";
+        assert_eq!(before.get("reference_stored"), None, "{before}");
+        assert_eq!(
+            after["reference_stored"].as_bool(),
+            ran.then_some(true),
+            "{after}"
+        );
+        // The same reference, so the same errors, to the bit (JSON prints the shortest
+        // round-trip form).
+        let errors = |case: &serde_json::Value| -> Vec<String> {
+            case["sweep"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|row| row["max_height_error_m"].to_string())
+                .collect()
+        };
+        assert_eq!(errors(before), errors(after), "{}", before["case"]);
+        // The run time shares are against the stored run's time.
+        assert_eq!(
+            before["reference_run_time_ms"], after["reference_run_time_ms"],
+            "{}",
+            before["case"]
+        );
+    }
+    assert_eq!(
+        second_progress.matches("stored (").count(),
+        run_references,
+        "{second_progress}"
+    );
+}
+
+#[test]
 fn bench_physics_errors_name_the_simulator_and_the_option() {
-    let cases: [&[&str]; 7] = [
+    let cases: [&[&str]; 8] = [
         &["--scenario", "cloth", "--dt", "0.01"],
+        &["--scenario", "rope", "--reference-cache", "Cargo.toml"],
         &["--scenario", "fluid", "--ensemble-runs", "15"],
         &["--scenario", "cloth", "--ensemble-runs", "0"],
         &["--scenario", "fluid", "--dt", "0.01"],

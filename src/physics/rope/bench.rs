@@ -54,6 +54,8 @@ fn case(name: &'static str, mechanism: Mechanism, exact: Option<Vec<f64>>) -> Be
     BenchCase {
         name: name.to_string(),
         exact: exact.map(|heights| vec![heights]),
+        inputs: String::new(),
+        label_names: Vec::new(),
         run: Box::new(move |point| {
             let dt = point.first().copied().unwrap_or(f64::NAN);
             let mut state = mechanism.initial_state();

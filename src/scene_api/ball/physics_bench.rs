@@ -33,7 +33,7 @@ use crate::dataset::ball::BallAnnotation;
 use crate::dataset::ball::outcome::{MAX_UPDATES, Pit};
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
-    video_name,
+    input_digest, video_name,
 };
 
 /// The ball simulation's benchmark.
@@ -123,8 +123,10 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     let mut cases = Vec::new();
     for video in videos {
         let name = video_name(video);
-        let annotation = BallAnnotation::load(&video.join("outputs.json"))
+        let annotation_path = video.join("outputs.json");
+        let annotation = BallAnnotation::load(&annotation_path)
             .map_err(|error| BenchError::new(&name, error))?;
+        let inputs = input_digest(&name, &annotation_path)?;
         let stadium = Stadium::from_layout(&annotation.layout);
         let starts: Vec<BallStart> = annotation
             .layout
@@ -162,6 +164,8 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
             cases.push(BenchCase {
                 name: case_name,
                 exact: None,
+                inputs: inputs.clone(),
+                label_names: Vec::new(),
                 run: Box::new(move |point| measure(&scene, &label, point)),
             });
         }

@@ -40,7 +40,7 @@ use crate::dataset::cloth::names::Side;
 use crate::dataset::cloth::outcome::Pose;
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
-    video_name,
+    input_digest, video_name,
 };
 use crate::physics::vector3::Vector;
 use crate::synth::cloth::layout::{
@@ -179,20 +179,56 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     let mut cases = Vec::new();
     for video in videos {
         let name = video_name(video);
-        let annotation = ClothAnnotation::load(&video.join("outputs.json"))
+        let annotation_path = video.join("outputs.json");
+        let annotation = ClothAnnotation::load(&annotation_path)
             .map_err(|error| BenchError::new(&name, error))?;
+        let inputs = input_digest(&name, &annotation_path)?;
         for side in Side::BOTH {
             let half = release_half(&annotation, side);
+            let label_names = label_names(&half);
             let label = format!("{name} {} half", side.word());
             let case_label = label.clone();
             cases.push(BenchCase {
                 name: label,
                 exact: None,
+                inputs: inputs.clone(),
+                label_names,
                 run: Box::new(move |point| measure(&half, &case_label, point)),
             });
         }
     }
     Ok(cases)
+}
+
+/// The names of a half's labels, in the order [`measure`] reports them: per box and pose
+/// (`Green Plate supine`), per box (`Green Plate fell over`), per pair (`collide Red Pillar –
+/// Green Plate`, then `touch …`), and per box and axis (`Green Plate x`).
+fn label_names(half: &SeenHalf) -> Vec<Vec<String>> {
+    let names: Vec<&str> = half.boxes.iter().map(|seen| seen.name.as_str()).collect();
+    let poses = names
+        .iter()
+        .flat_map(|name| {
+            Pose::ALL
+                .iter()
+                .map(move |pose| format!("{name} {}", pose.as_str()))
+        })
+        .collect();
+    let falls = names
+        .iter()
+        .map(|name| format!("{name} fell over"))
+        .collect();
+    let mut contacts = Vec::new();
+    for (index, first) in names.iter().enumerate() {
+        for second in names.iter().skip(index + 1) {
+            contacts.push(format!("collide {first} – {second}"));
+            contacts.push(format!("touch {first} – {second}"));
+        }
+    }
+    let positions = names
+        .iter()
+        .flat_map(|name| ["x", "y", "z"].map(|axis| format!("{name} {axis}")))
+        .collect();
+    vec![poses, falls, contacts, positions]
 }
 
 /// `side`'s half as the release made it (see the module's doc).

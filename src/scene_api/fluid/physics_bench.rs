@@ -39,7 +39,7 @@ use crate::dataset::fluid::world::{
 use crate::dataset::fluid::{FluidAnnotation, Viscosity};
 use crate::physics::bench::{
     BenchCase, BenchError, CaseOutput, ErrorMeasure, Parameter, PhysicsBench, Reduction, Reference,
-    video_name,
+    input_digest, video_name,
 };
 
 /// Updates after an emitter opens at which its front is measured (1/60 s each).
@@ -127,6 +127,7 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
     for video in videos {
         let scene = Scene::load(video)?;
         let name = video_name(video);
+        let inputs = input_digest(&name, &video.join("outputs.json"))?;
         let removed = scene
             .annotation
             .counterfactuals
@@ -143,6 +144,8 @@ fn cases(videos: &[PathBuf]) -> Result<Vec<BenchCase>, BenchError> {
             cases.push(BenchCase {
                 name: case_name,
                 exact: None,
+                inputs: inputs.clone(),
+                label_names: Vec::new(),
                 run: Box::new(move |point| scene.measure(&label, removed.as_deref(), point)),
             });
         }
