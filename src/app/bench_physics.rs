@@ -11,8 +11,9 @@
 //! reference's. A case with measures over the labels the reference decides (its ensemble's runs
 //! agree) also says how many labels each was taken over (`decided_labels`): what its errors can
 //! tell apart, and each point the decided labels it gets otherwise in some run
-//! (`differing_labels`, by the names the case gives them). With `--reference-cache DIR`, reference runs are stored and reused
-//! (`bench_reference`): a sweep of new points over the same cases runs only those points.
+//! (`differing_labels`, by the names the case gives them). With `--reference-cache DIR`,
+//! reference runs are stored and reused (`bench_reference`): a sweep of new points over the
+//! same cases runs only those points.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -70,37 +71,15 @@ fn sweep_case(
     totals: &mut DefaultTotals,
 ) -> Result<(Value, Series), AppError> {
     let mut progress = std::io::stderr().lock();
-    let mut reference_cached = false;
-    let (reference, reference_kind, reference_run) = if let Some(exact) = &case.exact {
-        (exact.clone(), "closed form".to_string(), None)
+    let (reference, reference_kind, reference_run, reference_cached) = if let Some(exact) =
+        &case.exact
+    {
+        (exact.clone(), "closed form".to_string(), None, false)
     } else {
         let words = point_words(bench, reference_point);
         let _ = write!(progress, "{}: reference ({words})... ", case.name);
-        let stored = match cache.map(|cache| cache.load(case, reference_point)) {
-            Some(Ok(stored)) => stored,
-            Some(Err(reason)) => {
-                let _ = write!(progress, "(warning: {reason}; running it again) ");
-                None
-            }
-            None => None,
-        };
-        let (output, ms) = if let Some(stored) = stored {
-            reference_cached = true;
-            let _ = writeln!(
-                progress,
-                "stored ({:.1} s when run)",
-                stored.run_time_ms / 1e3
-            );
-            (stored.output, stored.run_time_ms)
-        } else {
-            let (output, ms) = simulate(case, reference_point)?;
-            let _ = writeln!(progress, "{:.1} s", ms / 1e3);
-            if let Some(cache) = cache {
-                cache.store(case, reference_point, &output, ms)?;
-            }
-            (output, ms)
-        };
-        (output.quantities, words, Some((ms, output.work)))
+        let (output, ms, stored) = reference_output(case, reference_point, cache, &mut progress)?;
+        (output.quantities, words, Some((ms, output.work)), stored)
     };
     // How many labels each decided measure is taken over: what its errors can tell.
     let decided: Vec<Option<usize>> = bench
@@ -199,6 +178,36 @@ fn sweep_case(
     }
     case_report.insert("sweep".into(), Value::Array(rows));
     Ok((Value::Object(case_report), (case.name.clone(), points_out)))
+}
+
+/// `case`'s run at `reference_point`: from `cache` when stored there (`true`), else run (and
+/// stored there); with its wall time, ms (a stored run's when it ran). Ends the progress line.
+fn reference_output(
+    case: &BenchCase,
+    reference_point: &[f64],
+    cache: Option<&ReferenceCache>,
+    progress: &mut impl std::io::Write,
+) -> Result<(CaseOutput, f64, bool), AppError> {
+    match cache.map(|cache| cache.load(case, reference_point)) {
+        Some(Ok(Some(stored))) => {
+            let _ = writeln!(
+                progress,
+                "stored ({:.1} s when run)",
+                stored.run_time_ms / 1e3
+            );
+            return Ok((stored.output, stored.run_time_ms, true));
+        }
+        Some(Err(reason)) => {
+            let _ = write!(progress, "(warning: {reason}; running it again) ");
+        }
+        Some(Ok(None)) | None => {}
+    }
+    let (output, ms) = simulate(case, reference_point)?;
+    let _ = writeln!(progress, "{:.1} s", ms / 1e3);
+    if let Some(cache) = cache {
+        cache.store(case, reference_point, &output, ms)?;
+    }
+    Ok((output, ms, false))
 }
 
 /// Per error measure, the differences of `measured` from `reference` reduced as the measure

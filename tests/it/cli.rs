@@ -150,25 +150,22 @@ fn invalid_trials_are_skipped_with_a_count() {
     let _ = demo();
 }
 
+/// `bench physics --scenario rope` with `arguments`: its report and its progress.
+fn bench_rope(arguments: &[&str]) -> (serde_json::Value, String) {
+    let output = contphy(
+        &root(),
+        &[&["bench", "physics", "--scenario", "rope"][..], arguments].concat(),
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    (report, stderr(&output))
+}
+
 #[test]
 fn bench_physics_reports_first_order_convergence_and_writes_the_plot() {
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("rope.svg");
-    let output = contphy(
-        &root(),
-        &[
-            "bench",
-            "physics",
-            "--scenario",
-            "rope",
-            "--dt",
-            "0.02,0.01,0.001",
-            "--svg",
-            svg.to_str().unwrap(),
-        ],
-    );
-    assert!(output.status.success(), "{}", stderr(&output));
-    let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    let (report, _) = bench_rope(&["--dt", "0.02,0.01,0.001", "--svg", svg.to_str().unwrap()]);
     let default_dt = report["default"]["dt_s"].as_f64().unwrap();
     for case in report["cases"].as_array().unwrap() {
         let sweep = case["sweep"].as_array().unwrap();
@@ -208,22 +205,12 @@ fn bench_physics_stores_reference_runs_and_compares_with_them_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("references");
     let run = || {
-        let output = contphy(
-            &root(),
-            &[
-                "bench",
-                "physics",
-                "--scenario",
-                "rope",
-                "--dt",
-                "0.02,0.01",
-                "--reference-cache",
-                cache.to_str().unwrap(),
-            ],
-        );
-        assert!(output.status.success(), "{}", stderr(&output));
-        let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
-        (report, stderr(&output))
+        bench_rope(&[
+            "--dt",
+            "0.02,0.01",
+            "--reference-cache",
+            cache.to_str().unwrap(),
+        ])
     };
     let (first, first_progress) = run();
     let (second, second_progress) = run();
