@@ -24,6 +24,7 @@ use std::time::Instant;
 use serde_json::{Map, Value, json};
 
 use super::bench::print_report;
+use super::bench_confirmation::{confirmed, label_name};
 use super::bench_reference::ReferenceCache;
 use super::error::{AppError, Classify as _, user_error};
 use super::settings::BenchPhysicsSettings;
@@ -59,6 +60,16 @@ struct DefaultTotals {
     reference_work: u64,
 }
 
+/// The points every case is measured against.
+struct Anchors {
+    /// The reference's.
+    reference: Vec<f64>,
+    /// The default's, whose figures the summary totals.
+    default: Vec<f64>,
+    /// Under `--confirm`, the point whose runs must repeat a decided label for it to count.
+    confirmation: Option<Vec<f64>>,
+}
+
 /// One case over the sweep: its report and its plot series; adds the default point's figures
 /// to `totals`. The reference run comes from `cache` when stored there, and is stored there
 /// when run. Progress goes to stderr.
@@ -66,20 +77,42 @@ fn sweep_case(
     bench: &PhysicsBench,
     case: &BenchCase,
     points: &[Vec<f64>],
-    [reference_point, default_point]: [&[f64]; 2],
+    anchors: &Anchors,
     cache: Option<&ReferenceCache>,
     totals: &mut DefaultTotals,
 ) -> Result<(Value, Series), AppError> {
     let mut progress = std::io::stderr().lock();
-    let (reference, reference_kind, reference_run, reference_cached) = if let Some(exact) =
-        &case.exact
-    {
-        (exact.clone(), "closed form".to_string(), None, false)
-    } else {
-        let words = point_words(bench, reference_point);
-        let _ = write!(progress, "{}: reference ({words})... ", case.name);
-        let (output, ms, stored) = reference_output(case, reference_point, cache, &mut progress)?;
-        (output.quantities, words, Some((ms, output.work)), stored)
+    let (reference, reference_kind, reference_run, reference_cached) =
+        if let Some(exact) = &case.exact {
+            (exact.clone(), "closed form".to_string(), None, false)
+        } else {
+            let words = point_words(bench, &anchors.reference);
+            let _ = write!(progress, "{}: reference ({words})... ", case.name);
+            let (output, ms, stored) =
+                reference_output(case, &anchors.reference, cache, &mut progress)?;
+            (output.quantities, words, Some((ms, output.work)), stored)
+        };
+    let mut confirmation_report = Map::new();
+    let reference = match (&anchors.confirmation, &case.exact) {
+        (Some(point), None) => {
+            let words = point_words(bench, point);
+            let _ = write!(progress, "{}: confirmation ({words})... ", case.name);
+            let (output, ms, stored) = reference_output(case, point, cache, &mut progress)?;
+            let (kept, dropped) = confirmed(
+                bench.errors,
+                &case.label_names,
+                &reference,
+                &output.quantities,
+            );
+            confirmation_report.insert("confirmation".into(), json!(words));
+            if stored {
+                confirmation_report.insert("confirmation_stored".into(), json!(true));
+            }
+            confirmation_report.insert("confirmation_run_time_ms".into(), json!(ms));
+            confirmation_report.insert("unconfirmed_labels".into(), Value::Array(dropped));
+            kept
+        }
+        _ => reference,
     };
     // How many labels each decided measure is taken over: what its errors can tell.
     let decided: Vec<Option<usize>> = bench
@@ -130,7 +163,7 @@ fn sweep_case(
                 );
             }
         }
-        if *point == default_point {
+        if *point == anchors.default {
             totals.error = totals.error.max(largest);
             totals.measures.resize(case_errors.len(), 0.0);
             for (total, error) in totals.measures.iter_mut().zip(&case_errors) {
@@ -167,6 +200,7 @@ fn sweep_case(
             case_report.insert("reference_work".into(), json!(work));
         }
     }
+    case_report.extend(confirmation_report);
     let decided: Map<String, Value> = bench
         .errors
         .iter()
@@ -268,13 +302,7 @@ fn differing_labels(
         else {
             continue;
         };
-        let name = |label: usize| {
-            names
-                .get(index)
-                .and_then(|names| names.get(label))
-                .cloned()
-                .unwrap_or_else(|| format!("#{label}"))
-        };
+        let name = |label: usize| label_name(names, index, label);
         let mut push = |label: usize, reference: f64, share: f64| {
             differing.push(json!({
                 "measure": measure.key,
@@ -311,12 +339,12 @@ fn differing_labels(
 }
 
 /// Whether a share is a label: the reference's ensemble agreed on it (0 or 1).
-fn is_label(share: f64) -> bool {
+pub(super) fn is_label(share: f64) -> bool {
     share.abs() < 1e-9 || (share - 1.0).abs() < 1e-9
 }
 
 /// Whether a group of category shares is decided: one category holds every run.
-fn decided_group(shares: &[f64]) -> bool {
+pub(super) fn decided_group(shares: &[f64]) -> bool {
     shares.iter().all(|share| is_label(*share))
         && shares.iter().filter(|share| **share > 0.5).count() == 1
 }
@@ -497,32 +525,49 @@ pub(crate) fn bench_physics(settings: &BenchPhysicsSettings) -> Result<ExitCode,
         .as_deref()
         .map(|folder| ReferenceCache::open(folder, scenario.name()))
         .transpose()?;
-    let reference_point = bench.reference_point(&points);
-    let default_point = bench.default_point(&points);
+    let confirmation = if settings.confirm {
+        let point = bench.confirmation_point(&points).ok_or_else(|| {
+            user_error(format!(
+                "bench physics: --confirm: the {scenario} simulator has no finer point to confirm \
+                 its reference's labels with (simulators with one: {})",
+                scenarios::names_with(|row| row
+                    .physics_bench
+                    .is_some_and(|bench| bench.confirmation.is_some()))
+            ))
+        })?;
+        Some(point)
+    } else {
+        None
+    };
+    let anchors = Anchors {
+        reference: bench.reference_point(&points),
+        default: bench.default_point(&points),
+        confirmation,
+    };
     let mut report_cases = Vec::new();
     let mut series: Vec<Series> = Vec::new();
     let mut totals = DefaultTotals::default();
     for case in (bench.cases)(&videos).user()? {
-        let (case_report, case_series) = sweep_case(
-            bench,
-            &case,
-            &points,
-            [&reference_point, &default_point],
-            cache.as_ref(),
-            &mut totals,
-        )?;
+        let (case_report, case_series) =
+            sweep_case(bench, &case, &points, &anchors, cache.as_ref(), &mut totals)?;
         report_cases.push(case_report);
         series.push(case_series);
     }
     let default_summary = default_summary(bench, &totals);
-    let report: Value = json!({
+    let mut report: Value = json!({
         "scenario": scenario.name(),
         "simulated_seconds": bench.duration,
-        "default": point_json(bench, &default_point),
+        "default": point_json(bench, &anchors.default),
         "errors": bench.errors.iter().map(|measure| measure.key).collect::<Vec<_>>(),
         "cases": report_cases,
         "default_summary": default_summary,
     });
+    if let (Some(point), Value::Object(report)) = (&anchors.confirmation, &mut report) {
+        report.insert(
+            "confirmation".into(),
+            Value::Object(point_json(bench, point)),
+        );
+    }
     if let Some(path) = &settings.svg {
         crate::util::write_atomic(path, svg_plot(&series, bench).as_bytes()).user()?;
     }
@@ -900,6 +945,102 @@ mod tests {
         for point in fluid.sweep {
             assert!(point[0] > 0.02 || point[2] != 0.0, "{point:?}");
         }
+    }
+
+    /// A bench of one decided measure over two labels and a reference at point 1, confirmed at
+    /// point 2; its one case's runs are [`labels_at`].
+    const CONFIRMED_BENCH: PhysicsBench = PhysicsBench {
+        duration: 1.0,
+        parameters: &[crate::physics::bench::Parameter {
+            key: "setting",
+            flag: "--setting",
+            label: "s",
+            follows_sweep: false,
+        }],
+        sweep: &[&[3.0]],
+        default: &[3.0],
+        reference: crate::physics::bench::Reference::Point(&[1.0]),
+        confirmation: Some(&[2.0]),
+        errors: &[ErrorMeasure {
+            key: "contact_disagreement",
+            reduction: Reduction::DecidedMean,
+            tolerance: Some(0.01),
+            plotted: true,
+        }],
+        error_axis: "share",
+        repeats: 1,
+        title: "labels",
+        uses_videos: false,
+        cases: |_| Ok(Vec::new()),
+    };
+
+    /// The case's labels at a point: the reference decides both (1, 0), the confirmation
+    /// repeats only the first, the default point misses the first in a fifth of its runs and
+    /// the second in three fifths.
+    fn labels_at(point: &[f64]) -> Measured {
+        let setting = point.first().copied().unwrap_or(0.0);
+        if setting < 1.5 {
+            vec![vec![1.0, 0.0]]
+        } else if setting < 2.5 {
+            vec![vec![1.0, 0.4]]
+        } else {
+            vec![vec![0.8, 0.6]]
+        }
+    }
+
+    #[test]
+    fn under_confirm_the_errors_are_over_the_labels_a_finer_point_repeats() {
+        let case = || BenchCase {
+            name: "half".into(),
+            exact: None,
+            inputs: String::new(),
+            label_names: vec![vec!["touch A – B".into(), "collide A – B".into()]],
+            run: Box::new(|point| {
+                Ok(CaseOutput {
+                    quantities: labels_at(point),
+                    work: None,
+                })
+            }),
+        };
+        let points = vec![vec![3.0]];
+        let sweep = |confirmation: Option<Vec<f64>>| {
+            let anchors = Anchors {
+                reference: vec![1.0],
+                default: vec![3.0],
+                confirmation,
+            };
+            let mut totals = DefaultTotals::default();
+            let (report, _) = sweep_case(
+                &CONFIRMED_BENCH,
+                &case(),
+                &points,
+                &anchors,
+                None,
+                &mut totals,
+            )
+            .unwrap();
+            (report, default_summary(&CONFIRMED_BENCH, &totals))
+        };
+        let (plain, plain_summary) = sweep(None);
+        assert_eq!(plain["decided_labels"]["contact_disagreement"], 2);
+        assert!(plain.get("unconfirmed_labels").is_none());
+        let error = |summary: &Map<String, Value>| {
+            summary["contact_disagreement"]["error"].as_f64().unwrap()
+        };
+        assert!((error(&plain_summary) - 0.4).abs() < 1e-12);
+        let (confirmed, confirmed_summary) = sweep(CONFIRMED_BENCH.confirmation_point(&points));
+        assert_eq!(confirmed["decided_labels"]["contact_disagreement"], 1);
+        assert_eq!(confirmed["confirmation"], "setting = 2");
+        assert_eq!(
+            confirmed["unconfirmed_labels"],
+            json!([{"measure": "contact_disagreement", "label": "collide A – B",
+                    "reference": 0.0, "confirmation": 0.4}])
+        );
+        // Only the confirmed label counts: the default's error is its miss on it, a fifth.
+        assert!((error(&confirmed_summary) - 0.2).abs() < 1e-12);
+        let differing = &confirmed["sweep"][0]["differing_labels"];
+        assert_eq!(differing.as_array().unwrap().len(), 1, "{differing}");
+        assert_eq!(differing[0]["label"], "touch A – B");
     }
 
     #[test]

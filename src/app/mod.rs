@@ -6,6 +6,7 @@
 //! internal errors.
 
 mod bench;
+mod bench_confirmation;
 mod bench_inference;
 mod bench_mpm;
 mod bench_physics;

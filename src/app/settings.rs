@@ -214,6 +214,9 @@ pub struct BenchPhysicsSettings {
     pub videos: Vec<PathBuf>,
     /// Where reference runs are stored and reused (`--reference-cache`).
     pub reference_cache: Option<PathBuf>,
+    /// Whether decided labels count only when the simulator's confirmation point repeats
+    /// them (`--confirm`).
+    pub confirm: bool,
 }
 
 /// `bench llm` settings.

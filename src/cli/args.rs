@@ -731,6 +731,7 @@ fn bench_physics_settings(args: PhysicsArgs) -> BenchPhysicsSettings {
         radius_per_spacing,
         videos,
         reference_cache,
+        confirm,
     } = args;
     BenchPhysicsSettings {
         scenario,
@@ -749,6 +750,7 @@ fn bench_physics_settings(args: PhysicsArgs) -> BenchPhysicsSettings {
         ),
         videos,
         reference_cache,
+        confirm,
     }
 }
 

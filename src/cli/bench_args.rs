@@ -176,4 +176,9 @@ pub struct PhysicsArgs {
     /// the reference's setting).
     #[arg(long = "reference-cache", value_name = "DIR")]
     pub reference_cache: Option<PathBuf>,
+    /// Count a label the reference's runs agree on only when a finer setting's runs repeat it
+    /// too (cloth: twice the reference's substeps; stored with --reference-cache like the
+    /// reference): the errors are then over the labels the physics settles
+    #[arg(long = "confirm")]
+    pub confirm: bool,
 }

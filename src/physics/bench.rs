@@ -185,6 +185,12 @@ pub struct PhysicsBench {
     pub default: &'static [f64],
     /// What cases without a closed form are compared against.
     pub reference: Reference,
+    /// A point finer than the reference that confirms its decided labels (`--confirm`): a
+    /// label the reference's ensemble decides counts only when every run of this point's
+    /// ensemble repeats it. A label a finer setting changes is not converged at the reference,
+    /// so no coarser point can be expected to repeat it. `None`: the simulator has no decided
+    /// measures to confirm.
+    pub confirmation: Option<&'static [f64]>,
     /// The error measures, in the order of the quantities a run reports.
     pub errors: &'static [ErrorMeasure],
     /// The plot's error axis (`largest error, m`): the largest error of the measures
@@ -220,6 +226,11 @@ impl PhysicsBench {
     /// The default point for `sweep`.
     pub fn default_point(&self, sweep: &[Vec<f64>]) -> Vec<f64> {
         self.following(self.default, sweep)
+    }
+
+    /// The confirmation point for `sweep` ([`PhysicsBench::confirmation`]).
+    pub fn confirmation_point(&self, sweep: &[Vec<f64>]) -> Option<Vec<f64>> {
+        self.confirmation.map(|point| self.following(point, sweep))
     }
 
     /// The reference point for `sweep`.

@@ -257,9 +257,10 @@ fn bench_physics_stores_reference_runs_and_compares_with_them_bit_for_bit() {
 
 #[test]
 fn bench_physics_errors_name_the_simulator_and_the_option() {
-    let cases: [&[&str]; 8] = [
+    let cases: [&[&str]; 9] = [
         &["--scenario", "cloth", "--dt", "0.01"],
         &["--scenario", "rope", "--reference-cache", "Cargo.toml"],
+        &["--scenario", "rope", "--confirm"],
         &["--scenario", "fluid", "--ensemble-runs", "15"],
         &["--scenario", "cloth", "--ensemble-runs", "0"],
         &["--scenario", "fluid", "--dt", "0.01"],

@@ -36,6 +36,7 @@ pub const BENCH: PhysicsBench = PhysicsBench {
     ],
     default: &[1e-3],
     reference: Reference::TenfoldFiner,
+    confirmation: None,
     errors: &[ErrorMeasure {
         key: "max_height_error_m",
         reduction: Reduction::Largest,

@@ -77,6 +77,7 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     ],
     default: &[0.1, 2.0, 0.5, 0.0],
     reference: Reference::Point(&[0.03, 2.0, 0.25, 0.0]),
+    confirmation: None,
     errors: &[
         ErrorMeasure {
             key: "pit_disagreement",

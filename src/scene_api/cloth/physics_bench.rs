@@ -27,6 +27,11 @@
 //! * `box_position_error`: the mean absolute difference of the boxes' end centres' coordinates
 //!   (averaged over the ensemble) from the reference's, units.
 //!
+//! With `--confirm`, a decided label counts only when the confirmation's ensemble (the video's
+//! grid at twice the reference's substeps, 100 of 4) repeats it in every run: a label that a
+//! finer setting changes is not converged at the reference either (the knife-edge boxes of
+//! the hard halves), and the errors are then over the labels the physics settles.
+//!
 //! The cost of a point is its wall time and the solver's particle constraint passes (`work`:
 //! particles × substeps × iterations × updates, over the ensemble).
 //!
@@ -107,6 +112,9 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     ],
     default: &DEFAULT_POINT,
     reference: Reference::Point(&[31.0, 50.0, 4.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING]),
+    // Twice the reference's substeps: on video 10 of seed 5150 it keeps a box upright in 11 of
+    // 15 runs that the reference keeps upright in all 15 (`docs/data/cloth.md`).
+    confirmation: Some(&[31.0, 100.0, 4.0, 0.0, ENSEMBLE_RUNS, RADIUS_PER_SPACING]),
     errors: &[
         ErrorMeasure {
             key: "pose_disagreement",

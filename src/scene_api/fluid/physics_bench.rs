@@ -86,6 +86,7 @@ pub(crate) const BENCH: PhysicsBench = PhysicsBench {
     ],
     default: &[0.05, 2.0, 0.0],
     reference: Reference::Point(&[0.02, 2.0, 0.0]),
+    confirmation: None,
     errors: &[
         ErrorMeasure {
             key: "container_fraction_error",
