@@ -15,8 +15,8 @@
 
 use serde_json::{Value, json};
 
-use super::bench_physics::{decided_group, is_label};
-use crate::physics::bench::{ErrorMeasure, Measured, Reduction};
+use super::bench_physics::decided_labels;
+use crate::physics::bench::{ErrorMeasure, Measured};
 
 /// A share no decided reduction counts: a label set to it is undecided.
 const UNDECIDED: f64 = 0.5;
@@ -59,37 +59,14 @@ pub(super) fn confirmed(
                 "confirmation": share,
             }));
         };
-        match measure.reduction {
-            Reduction::DecidedMean => {
-                for (label, expected) in expected.iter().enumerate() {
-                    let share = share_of(label);
-                    let repeated = share.is_some_and(|share| (share - expected).abs() < 1e-9);
-                    if is_label(*expected) && !repeated {
-                        drop(label, *expected, share);
-                        slot[label] = UNDECIDED;
-                    }
+        for decided in decided_labels(measure.reduction, expected) {
+            let share = share_of(decided.index);
+            if !share.is_some_and(|share| (share - decided.share).abs() < 1e-9) {
+                drop(decided.index, decided.share, share);
+                for share in &mut slot[decided.span] {
+                    *share = UNDECIDED;
                 }
             }
-            Reduction::DecidedCategories(size) if size > 0 => {
-                for (group, shares) in expected.chunks(size).enumerate() {
-                    let held = shares.iter().position(|share| *share > 0.5);
-                    let (true, Some(category)) = (decided_group(shares), held) else {
-                        continue;
-                    };
-                    let label = group * size + category;
-                    let share = share_of(label);
-                    if !share.is_some_and(|share| (share - 1.0).abs() < 1e-9) {
-                        drop(label, 1.0, share);
-                        for share in &mut slot[group * size..(group + 1) * size] {
-                            *share = UNDECIDED;
-                        }
-                    }
-                }
-            }
-            Reduction::DecidedCategories(_)
-            | Reduction::Largest
-            | Reduction::Mean
-            | Reduction::Mismatch => {}
         }
     }
     (kept, dropped)
@@ -98,6 +75,7 @@ pub(super) fn confirmed(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::bench::Reduction;
 
     fn measure(key: &'static str, reduction: Reduction) -> ErrorMeasure {
         ErrorMeasure {
@@ -155,9 +133,15 @@ mod tests {
                        "confirmation": 2.0 / 15.0}),
             ]
         );
-        // What is left decided is what the errors are taken over.
-        assert!(!decided_group(&kept[0][..2]) && decided_group(&kept[0][2..]));
-        assert_eq!(kept[1].iter().filter(|share| is_label(**share)).count(), 1);
+        // What is left decided is what the errors are taken over: box B's pose, the touch.
+        let left = |measure: usize| -> Vec<usize> {
+            decided_labels(measures[measure].reduction, &kept[measure])
+                .iter()
+                .map(|decided| decided.index)
+                .collect()
+        };
+        assert_eq!(left(0), vec![3]);
+        assert_eq!(left(1), vec![0]);
     }
 
     #[test]

@@ -119,7 +119,10 @@ fn sweep_case(
         .errors
         .iter()
         .zip(&reference)
-        .map(|(measure, expected)| decided_labels(measure.reduction, expected))
+        .map(|(measure, expected)| {
+            (measure.reduction.is_decided())
+                .then(|| decided_labels(measure.reduction, expected).len())
+        })
         .collect();
     let mut points_out = Vec::new();
     let mut rows = Vec::new();
@@ -311,56 +314,69 @@ fn differing_labels(
                 "share": share,
             }));
         };
-        match measure.reduction {
-            Reduction::DecidedMean => {
-                for (label, (got, expected)) in got.iter().zip(expected).enumerate() {
-                    if is_label(*expected) && (got - expected).abs() > 1e-9 {
-                        push(label, *expected, *got);
-                    }
-                }
+        for decided in decided_labels(measure.reduction, expected) {
+            let Some(share) = got.get(decided.index).copied() else {
+                continue;
+            };
+            if (share - decided.share).abs() > 1e-9 {
+                push(decided.index, decided.share, share);
             }
-            Reduction::DecidedCategories(size) if size > 0 => {
-                for (group, (got, expected)) in
-                    got.chunks(size).zip(expected.chunks(size)).enumerate()
-                {
-                    let held = expected.iter().position(|share| *share > 0.5);
-                    if let (true, Some(category)) = (decided_group(expected), held) {
-                        let share = got.get(category).copied().unwrap_or(0.0);
-                        if (share - 1.0).abs() > 1e-9 {
-                            push(group * size + category, 1.0, share);
-                        }
-                    }
-                }
-            }
-            _ => {}
         }
     }
     differing
 }
 
 /// Whether a share is a label: the reference's ensemble agreed on it (0 or 1).
-pub(super) fn is_label(share: f64) -> bool {
+fn is_label(share: f64) -> bool {
     share.abs() < 1e-9 || (share - 1.0).abs() < 1e-9
 }
 
 /// Whether a group of category shares is decided: one category holds every run.
-pub(super) fn decided_group(shares: &[f64]) -> bool {
+fn decided_group(shares: &[f64]) -> bool {
     shares.iter().all(|share| is_label(*share))
         && shares.iter().filter(|share| **share > 0.5).count() == 1
 }
 
-/// The number of labels a decided reduction of `expected` is taken over (`None` for the
-/// others).
-fn decided_labels(reduction: Reduction, expected: &[f64]) -> Option<usize> {
+/// One label a decided reduction is taken over.
+#[derive(Debug, PartialEq)]
+pub(super) struct DecidedLabel {
+    /// Its index among the measure's quantities (a category's own).
+    pub index: usize,
+    /// The reference's share of runs with it: 0 or 1 (a category's 1).
+    pub share: f64,
+    /// The quantities it stands for: itself, or its category's whole group.
+    pub span: std::ops::Range<usize>,
+}
+
+/// The labels a decided reduction of `expected` is taken over: the labels the reference's runs
+/// agree on, or the groups of categories they put in one category (none for the other
+/// reductions).
+pub(super) fn decided_labels(reduction: Reduction, expected: &[f64]) -> Vec<DecidedLabel> {
     match reduction {
-        Reduction::DecidedMean => Some(expected.iter().filter(|share| is_label(**share)).count()),
-        Reduction::DecidedCategories(size) if size > 0 => Some(
-            expected
-                .chunks(size)
-                .filter(|group| decided_group(group))
-                .count(),
-        ),
-        _ => None,
+        Reduction::DecidedMean => expected
+            .iter()
+            .enumerate()
+            .filter(|(_, share)| is_label(**share))
+            .map(|(index, share)| DecidedLabel {
+                index,
+                share: *share,
+                span: index..index + 1,
+            })
+            .collect(),
+        Reduction::DecidedCategories(size) if size > 0 => expected
+            .chunks(size)
+            .enumerate()
+            .filter(|(_, group)| decided_group(group))
+            .filter_map(|(group, shares)| {
+                let category = shares.iter().position(|share| *share > 0.5)?;
+                Some(DecidedLabel {
+                    index: group * size + category,
+                    share: 1.0,
+                    span: group * size..(group + 1) * size,
+                })
+            })
+            .collect(),
+        _ => Vec::new(),
     }
 }
 
@@ -890,18 +906,23 @@ mod tests {
         assert!(decided_categories(&[1.0], &[1.0], 0).is_infinite());
         // The labels each decided measure is taken over: two of three shares, one of two
         // groups; none for the other reductions.
+        let label = |index: usize, share: f64, span: std::ops::Range<usize>| DecidedLabel {
+            index,
+            share,
+            span,
+        };
         assert_eq!(
             decided_labels(Reduction::DecidedMean, &[1.0, 0.5, 1.0]),
-            Some(2)
+            vec![label(0, 1.0, 0..1), label(2, 1.0, 2..3)]
         );
         assert_eq!(
             decided_labels(
                 Reduction::DecidedCategories(3),
                 &[0.0, 1.0, 0.0, 0.5, 0.0, 0.5]
             ),
-            Some(1)
+            vec![label(1, 1.0, 0..3)]
         );
-        assert_eq!(decided_labels(Reduction::Mean, &[1.0]), None);
+        assert!(decided_labels(Reduction::Mean, &[1.0]).is_empty());
         // The labels it gets otherwise: the decided ones that differ at all, by name where
         // the case names them (the categories' first group, by its reference category).
         let names = vec![
