@@ -11,6 +11,7 @@ mod bench_inference;
 mod bench_mpm;
 mod bench_physics;
 mod bench_reference;
+mod bench_view;
 mod error;
 mod evaluate;
 mod exec;
@@ -27,15 +28,17 @@ mod run_dir;
 mod score;
 mod settings;
 mod source;
+mod view;
 
 pub use bench_mpm::BenchMpm88Settings;
+pub use bench_view::BenchViewSettings;
 pub use error::{AppError, ErrorClass};
 pub use perception::{BenchPerceptionSettings, FitColorsSettings, FrameSelection};
 pub use settings::{
     BenchLlmSettings, BenchPhysicsSettings, BenchSettings, Budgets, CacheExportSettings,
     CacheImportSettings, CacheSettings, DEFAULT_LLM_JOBS, ExecSettings, FramesSelection,
     GenerateSettings, LlmSettings, ModelOverrides, QuestionsSettings, RenderSettings, Request,
-    RunSettings, ScoreSettings, SplitSelection,
+    RunSettings, ScoreSettings, SplitSelection, ViewSettings,
 };
 
 use std::io::Write as _;
@@ -48,12 +51,14 @@ pub fn execute(request: Request) -> ExitCode {
         Request::Exec(settings) => exec::exec(&settings),
         Request::Questions(settings) => questions::questions(&settings),
         Request::Score(settings) => score::score_runs(&settings),
+        Request::View(settings) => view::view(&settings),
         Request::CacheList(settings) => score::cache_list(&settings),
         Request::CacheExport(settings) => score::cache_export(&settings),
         Request::CacheImport(settings) => score::cache_import(&settings),
         Request::BenchSandbox(settings) => bench::bench_sandbox(&settings),
         Request::BenchLlm(settings) => bench::bench_llm(&settings),
         Request::BenchPhysics(settings) => bench_physics::bench_physics(&settings),
+        Request::BenchView(settings) => bench_view::bench_view(&settings),
         Request::Render(settings) => render::render(&settings),
         Request::BenchInference(data, noise) => bench_inference::bench_inference(&data, &noise),
         Request::Generate(settings) => generate::generate(&settings),

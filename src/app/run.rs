@@ -22,9 +22,9 @@ use crate::dataset::{
 };
 use crate::llm::{ClientConfig, Prices, SamplingParams};
 use crate::program::ProgramCache;
-use crate::report::{ReportMeta, render_run_report};
+use crate::report::{ReportMeta, render_run_report, run_plots};
 use crate::scenarios;
-use crate::scene_api::VideoSpec;
+use crate::scene_api::{DynamicsBackend, PerceptionBackend, VideoSpec};
 use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Usage, score};
 use crate::util::content_hash;
 
@@ -125,14 +125,22 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
     let scores = score(&eval_questions, &predictions, &priors);
     run_dir.write_json("results.json", &json!({ "scores": scores }))?;
     let usage = run_usage(&predictions);
+    let plots = run_plots(&source.name(), &scores, &eval_questions, &predictions).internal()?;
+    for plot in &plots {
+        run_dir.write_text(&format!("plots/{}", plot.file_name), &plot.svg)?;
+    }
     let meta = ReportMeta {
         usage,
+        plots: plots
+            .iter()
+            .map(|plot| (plot.file_name.clone(), plot.caption.clone()))
+            .collect(),
         run_name: out.file_name().map_or_else(
             || out.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         ),
         program_source: source.name(),
-        backends: backends_line(settings),
+        backends: backends_line(settings.perception, settings.dynamics),
         questions: question_files
             .iter()
             .map(|(path, _)| path.as_str())
@@ -291,7 +299,8 @@ fn run_tasks(
 }
 
 /// `perception=…, dynamics=…` for the report.
-fn backends_line(settings: &RunSettings) -> String {
+/// `perception=…, dynamics=…`, as the report and the viewer name a run's backends.
+pub(crate) fn backends_line(perception: PerceptionBackend, dynamics: DynamicsBackend) -> String {
     let name = |value: serde_json::Result<serde_json::Value>| {
         value
             .ok()
@@ -300,8 +309,8 @@ fn backends_line(settings: &RunSettings) -> String {
     };
     format!(
         "perception={}, dynamics={}",
-        name(serde_json::to_value(settings.perception)),
-        name(serde_json::to_value(settings.dynamics)),
+        name(serde_json::to_value(perception)),
+        name(serde_json::to_value(dynamics)),
     )
 }
 

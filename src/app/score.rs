@@ -8,11 +8,11 @@ use std::process::ExitCode;
 use serde_json::json;
 
 use super::error::{AppError, Classify as _, user_error};
-use super::run_dir::{RunDir, RunIdentity};
+use super::run_dir::{Manifest, RunDir, RunIdentity};
 use super::settings::{CacheExportSettings, CacheImportSettings, CacheSettings, ScoreSettings};
 use crate::program::{CacheEntry, ProgramCache, cache_key};
 use crate::report::render_leaderboard;
-use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, score};
+use crate::score::{EvalQuestion, Prediction, Priors, RunQuestions, Scores, score};
 use crate::util::canonical_json;
 
 /// One loaded run directory.
@@ -20,22 +20,40 @@ struct LoadedRun {
     dir: PathBuf,
     name: String,
     identity: Option<RunIdentity>,
+    manifest: Option<Manifest>,
     questions: RunQuestions,
     predictions: Vec<Prediction>,
 }
 
 /// A leaderboard column: one run, or the complete set of shards of one sharded run.
-struct Column {
-    name: String,
-    dirs: Vec<PathBuf>,
-    questions: Vec<EvalQuestion>,
+pub(crate) struct Column {
+    /// The column's name (the run's folder, or the shards' parent with their count).
+    pub(crate) name: String,
+    /// The run directories behind it.
+    pub(crate) dirs: Vec<PathBuf>,
+    /// The first directory's manifest, if it has one.
+    pub(crate) manifest: Option<Manifest>,
+    /// The evaluated questions.
+    pub(crate) questions: Vec<EvalQuestion>,
     priors: Priors,
-    predictions: Vec<Prediction>,
+    /// The predictions.
+    pub(crate) predictions: Vec<Prediction>,
 }
 
-pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError> {
+/// Runs loaded, their shards merged into columns and scored, with notes for the user.
+pub(crate) struct ScoredRuns {
+    /// One per leaderboard column, in the order given.
+    pub(crate) columns: Vec<Column>,
+    /// Each column's name and scores.
+    pub(crate) scored: Vec<(String, Scores)>,
+    /// What the user should know (missing units, merged or unmerged shards, other questions).
+    pub(crate) notes: Vec<String>,
+}
+
+/// Loads the run directories `runs`, merges the complete shard sets and scores every column.
+pub(crate) fn load_and_score(runs: &[PathBuf]) -> Result<ScoredRuns, AppError> {
     let mut loaded = Vec::new();
-    for dir in &settings.runs {
+    for dir in runs {
         let run = RunDir::new(dir);
         if !run.questions_path().is_file() {
             return Err(user_error(format!(
@@ -43,8 +61,8 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
                 dir.display()
             )));
         }
-        let identity = if run.manifest_path().is_file() {
-            Some(run.read_manifest()?.identity)
+        let manifest = if run.manifest_path().is_file() {
+            Some(run.read_manifest()?)
         } else {
             None
         };
@@ -54,7 +72,8 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
                 || dir.display().to_string(),
                 |n| n.to_string_lossy().into_owned(),
             ),
-            identity,
+            identity: manifest.as_ref().map(|m| m.identity.clone()),
+            manifest,
             questions: run.read_questions()?,
             predictions: run.read_predictions()?,
         });
@@ -94,6 +113,19 @@ pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError>
                 .to_string(),
         );
     }
+    Ok(ScoredRuns {
+        columns,
+        scored,
+        notes,
+    })
+}
+
+pub(crate) fn score_runs(settings: &ScoreSettings) -> Result<ExitCode, AppError> {
+    let ScoredRuns {
+        columns,
+        scored,
+        notes,
+    } = load_and_score(&settings.runs)?;
     let mut stdout = std::io::stdout().lock();
     if settings.json {
         let runs: Vec<serde_json::Value> = columns
@@ -129,6 +161,7 @@ fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
     let single = |run: LoadedRun| Column {
         name: run.name,
         dirs: vec![run.dir],
+        manifest: run.manifest,
         questions: run.questions.questions,
         priors: run.questions.priors,
         predictions: run.predictions,
@@ -206,6 +239,7 @@ fn merge_shards(runs: Vec<LoadedRun>, notes: &mut Vec<String>) -> Vec<Column> {
         let mut column = Column {
             name,
             dirs: Vec::new(),
+            manifest: members.first().and_then(|m| m.manifest.clone()),
             questions: Vec::new(),
             priors: Priors::default(),
             predictions: Vec::new(),

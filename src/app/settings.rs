@@ -14,6 +14,10 @@ use crate::synth::appearance::Appearance;
 pub enum Request {
     /// `run`.
     Run(Box<RunSettings>),
+    /// `view`.
+    View(ViewSettings),
+    /// `bench view`.
+    BenchView(super::BenchViewSettings),
     /// `exec`.
     Exec(ExecSettings),
     /// `questions`.
@@ -281,6 +285,17 @@ pub struct ScoreSettings {
     pub runs: Vec<PathBuf>,
     /// JSON instead of a table.
     pub json: bool,
+}
+
+/// `view` settings.
+#[derive(Debug, Clone)]
+pub struct ViewSettings {
+    /// Run directories.
+    pub runs: Vec<PathBuf>,
+    /// The site's folder.
+    pub out: PathBuf,
+    /// The program cache the runs used, for the programs' texts.
+    pub cache: Option<PathBuf>,
 }
 
 /// `cache ls` settings.

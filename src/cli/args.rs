@@ -6,10 +6,10 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::app::{
     BenchLlmSettings, BenchMpm88Settings, BenchPerceptionSettings, BenchPhysicsSettings,
-    BenchSettings, Budgets, CacheExportSettings, CacheImportSettings, CacheSettings, ExecSettings,
-    FitColorsSettings, FrameSelection, FramesSelection, GenerateSettings, LlmSettings,
-    ModelOverrides, QuestionsSettings, RenderSettings, Request, RunSettings, ScoreSettings,
-    SplitSelection,
+    BenchSettings, BenchViewSettings, Budgets, CacheExportSettings, CacheImportSettings,
+    CacheSettings, ExecSettings, FitColorsSettings, FrameSelection, FramesSelection,
+    GenerateSettings, LlmSettings, ModelOverrides, QuestionsSettings, RenderSettings, Request,
+    RunSettings, SplitSelection,
 };
 use crate::dataset::Scenario;
 use crate::scene_api::{DynamicsBackend, PerceptionBackend};
@@ -17,6 +17,7 @@ use crate::synth::appearance::Appearance;
 use crate::synth::video::FrameOutput;
 
 use super::bench_args::{BenchCommand, PhysicsArgs};
+use super::report_args::{ScoreArgs, ViewArgs};
 
 /// Evaluate physical reasoning on ContPhy videos: each question becomes a Python program that
 /// runs in a sandbox against the scene API, and answers are scored per option and per question.
@@ -53,6 +54,8 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Re-score saved runs and print one leaderboard table.
     Score(ScoreArgs),
+    /// Write a static site of runs: the leaderboard, and every unit with its program and answer.
+    View(ViewArgs),
     /// Inspect the program cache.
     #[command(subcommand)]
     Cache(CacheCommand),
@@ -471,18 +474,6 @@ fn parse_resolution(text: &str) -> Result<(u32, u32), String> {
     parsed.ok_or_else(|| format!("`{text}` is not WIDTHxHEIGHT, e.g. 1920x1080"))
 }
 
-/// `score` arguments.
-#[derive(Debug, Args)]
-pub struct ScoreArgs {
-    /// Run directories to score. The shards of one sharded run (`--shard I/N`, same settings)
-    /// are merged into one column.
-    #[arg(value_name = "RUN", required = true)]
-    runs: Vec<PathBuf>,
-    /// Print the scores as JSON instead of the table.
-    #[arg(long)]
-    json: bool,
-}
-
 /// `cache` subcommands.
 #[derive(Debug, Subcommand)]
 pub enum CacheCommand {
@@ -625,10 +616,8 @@ impl Cli {
                 },
                 quiet: args.quiet,
             }),
-            Some(Command::Score(args)) => Request::Score(ScoreSettings {
-                runs: args.runs,
-                json: args.json,
-            }),
+            Some(Command::Score(args)) => Request::Score(args.into_settings()),
+            Some(Command::View(args)) => Request::View(args.into_settings()),
             Some(Command::Cache(CacheCommand::Export { cache, run, out })) => {
                 Request::CacheExport(CacheExportSettings { cache, run, out })
             }
@@ -701,6 +690,15 @@ impl Cli {
                 jobs,
                 rpm,
                 rpm_seconds,
+            }),
+            Some(Command::Bench(BenchCommand::View {
+                units,
+                out,
+                browser,
+            })) => Request::BenchView(BenchViewSettings {
+                units,
+                out,
+                browser,
             }),
             Some(Command::Bench(BenchCommand::Sandbox { units, jobs, video })) => {
                 Request::BenchSandbox(BenchSettings {

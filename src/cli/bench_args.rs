@@ -28,6 +28,21 @@ pub enum BenchCommand {
     /// Simulator accuracy: error against run time over a sweep of time steps (closed forms or a
     /// fine reference), as JSON, with an optional SVG plot.
     Physics(PhysicsArgs),
+    /// The viewer (`view`) on a large synthetic run, as JSON: the site's files, bytes and time
+    /// to write, and in a headless browser the time to load the run page, filter it and open a
+    /// unit; beside it the same site with every unit's detail in one file.
+    View {
+        /// Units in the synthetic run.
+        #[arg(long, value_name = "N", default_value_t = 100_000)]
+        units: usize,
+        /// Where the two sites are written (replaced when they exist).
+        #[arg(long, value_name = "DIR", default_value = "runs/bench-view")]
+        out: PathBuf,
+        /// The headless browser (default: chromium-headless-shell or chromium on the PATH; none:
+        /// the sites are written and not opened).
+        #[arg(long, value_name = "FILE")]
+        browser: Option<PathBuf>,
+    },
     /// The MPM core on the exact configuration of Taichi's mpm88 example (8,192 or 32,768
     /// particles from a `(N, 2)` float32 `.npy`), as JSON: means, kinetic energy, particle
     /// substeps per second. `benches/mpm88.sh` runs Taichi beside it; `--material` swaps the

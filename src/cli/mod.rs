@@ -6,6 +6,7 @@
 
 mod args;
 mod bench_args;
+mod report_args;
 
 pub use args::{Cli, Command};
 

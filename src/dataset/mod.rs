@@ -38,7 +38,7 @@ pub use question_file::{
     FamilyIndex, PerVideoQuestions, QuestionSource, load_question_file, questions_file_name,
     sampled_file_path, write_per_video_file, write_sampled_file,
 };
-pub use scenario::{Scenario, UnknownScenario};
+pub use scenario::{PaperRow, Scenario, UnknownScenario};
 pub use segmentation::{PaintedInstance, SegmentationRecords};
 pub use video::{DataRoot, VideoFolder, VideoListing, read_validity};
 pub use vocabulary::Vocabulary;

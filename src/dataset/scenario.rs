@@ -93,6 +93,72 @@ impl Scenario {
     }
 }
 
+/// A row of the paper's Table 2 (ContPhy, ICML 2024) for comparison: ContPRO's and the humans'
+/// accuracy, %, on the release's test split.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PaperRow {
+    /// `Prop.`, `C-Opt.`, `C-Ques.`, `G-Opt.`, `G-Ques.`, `P-Opt.` or `P-Ques.`.
+    pub setting: &'static str,
+    /// ContPRO, the paper's oracle model.
+    pub contpro: f64,
+    /// The paper's human study.
+    pub human: f64,
+}
+
+impl Scenario {
+    /// The scenario's rows of the paper's Table 2 (the ContPRO and Human columns), in its order.
+    pub fn paper_rows(self) -> &'static [PaperRow] {
+        const fn row(setting: &'static str, contpro: f64, human: f64) -> PaperRow {
+            PaperRow {
+                setting,
+                contpro,
+                human,
+            }
+        }
+        const ROPE: &[PaperRow] = &[
+            row("Prop.", 71.4, 84.7),
+            row("C-Opt.", 75.6, 90.2),
+            row("C-Ques.", 48.8, 75.0),
+            row("G-Opt.", 55.8, 91.9),
+            row("G-Ques.", 2.3, 84.0),
+        ];
+        const FLUID: &[PaperRow] = &[
+            row("Prop.", 78.0, 75.8),
+            row("C-Opt.", 75.7, 82.5),
+            row("C-Ques.", 36.2, 60.6),
+            row("G-Opt.", 77.3, 75.0),
+            row("G-Ques.", 60.0, 64.3),
+            row("P-Opt.", 90.1, 73.9),
+            row("P-Ques.", 68.3, 42.9),
+        ];
+        const CLOTH: &[PaperRow] = &[
+            row("Prop.", 60.0, 81.4),
+            row("P-Opt.", 64.7, 79.6),
+            row("P-Ques.", 60.0, 77.3),
+        ];
+        const BALL: &[PaperRow] = &[
+            row("Prop.", 54.0, 76.9),
+            row("C-Opt.", 71.6, 93.9),
+            row("C-Ques.", 57.4, 90.9),
+            row("G-Opt.", 68.1, 89.7),
+            row("G-Ques.", 52.2, 84.6),
+            row("P-Opt.", 92.4, 72.5),
+            row("P-Ques.", 88.6, 58.8),
+        ];
+        match self {
+            Scenario::Rope => ROPE,
+            Scenario::Fluid => FLUID,
+            Scenario::Cloth => CLOTH,
+            Scenario::Ball => BALL,
+        }
+    }
+
+    /// The paper's Table-2 row of `setting`, if the paper reports one.
+    pub fn paper_row(self, setting: &str) -> Option<&'static PaperRow> {
+        self.paper_rows().iter().find(|row| row.setting == setting)
+    }
+}
+
 /// Accepts the short name or the release folder name.
 impl FromStr for Scenario {
     type Err = UnknownScenario;
@@ -126,6 +192,28 @@ mod tests {
         assert_eq!(
             "pulleys".parse::<Scenario>().unwrap_err().to_string(),
             "unknown scenario `pulleys`: expected one of rope, fluid, cloth, ball"
+        );
+    }
+
+    #[test]
+    fn the_paper_rows_are_table_2s() {
+        // Spot checks against the paper's Table 2, one per scenario, and the row counts.
+        let counts: Vec<usize> = Scenario::ALL.map(|s| s.paper_rows().len()).to_vec();
+        assert_eq!(counts, [5, 7, 3, 7]);
+        let rope = Scenario::Rope.paper_row("G-Ques.").unwrap();
+        assert_eq!(
+            (rope.contpro.to_bits(), rope.human.to_bits()),
+            (2.3_f64.to_bits(), 84.0_f64.to_bits())
+        );
+        let cloth = Scenario::Cloth.paper_row("P-Opt.").unwrap();
+        assert_eq!(
+            (cloth.contpro.to_bits(), cloth.human.to_bits()),
+            (64.7_f64.to_bits(), 79.6_f64.to_bits())
+        );
+        assert!(Scenario::Cloth.paper_row("C-Opt.").is_none());
+        assert_eq!(
+            Scenario::Ball.paper_row("P-Ques.").unwrap().human.to_bits(),
+            58.8_f64.to_bits()
         );
     }
 }

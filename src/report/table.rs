@@ -35,6 +35,8 @@ pub struct ReportMeta {
     pub questions: String,
     /// LLM tokens, cost and requests of the run (`None` without a model).
     pub usage: Option<crate::score::Usage>,
+    /// The run's plots: file name under `plots/` and caption.
+    pub plots: Vec<(String, String)>,
 }
 
 fn percent(correct: f64, total: u64) -> f64 {
@@ -203,6 +205,12 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
                 "| (none) | missing prediction | {} |",
                 scores.missing_units
             );
+        }
+    }
+    if !meta.plots.is_empty() {
+        let _ = writeln!(out, "\n## Plots\n");
+        for (file_name, caption) in &meta.plots {
+            let _ = writeln!(out, "- [{caption}](plots/{file_name})");
         }
     }
     out

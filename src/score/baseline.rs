@@ -85,7 +85,9 @@ impl Priors {
             .then_some(prior.option_true > prior.option_false)
     }
 
-    /// The possible answers of an open-ended family: train answers plus `evaluated` gold answers.
+    /// The possible answers of an open-ended family: train answers plus `evaluated` gold answers;
+    /// a family answered `yes` or `no` can always be answered either way, even when the
+    /// questions at hand all have the same answer (a small run: RND would otherwise score 100%).
     pub(crate) fn answer_space<'a>(
         &'a self,
         family_key: &str,
@@ -94,6 +96,9 @@ impl Priors {
         let mut space: BTreeSet<&str> = evaluated.collect();
         if let Some(prior) = self.families.get(family_key) {
             space.extend(prior.answers.keys().map(String::as_str));
+        }
+        if space.contains("yes") || space.contains("no") {
+            space.extend(["yes", "no"]);
         }
         space
     }

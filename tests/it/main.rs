@@ -24,3 +24,4 @@ mod prompt;
 mod shards;
 mod support;
 mod unchanged;
+mod view;

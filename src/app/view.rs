@@ -1,0 +1,221 @@
+//! `view RUN... --out DIR`: writes the static viewer site of saved runs (the leaderboard, and per
+//! run every unit with its program, answer and error), built by `report::site`.
+//!
+//! Input: run directories (shards merged as `score` merges them) and, optionally, the program
+//! cache they used, for the programs' texts. Output: the site's files under `--out`, which must be
+//! new, empty, or a folder an earlier `view` wrote (then its files are replaced).
+
+use std::io::Write as _;
+use std::path::Path;
+use std::process::ExitCode;
+
+use super::error::{AppError, Classify as _, user_error};
+use super::run::backends_line;
+use super::score::{Column, ScoredRuns, load_and_score};
+use super::settings::ViewSettings;
+use crate::program::ProgramCache;
+use crate::report::run_plots;
+use crate::report::site::{ProgramText, SITE_MARKER, SiteRun, build_site};
+use crate::util::write_atomic;
+
+pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
+    prepare_out(&settings.out)?;
+    if let Some(dir) = &settings.cache
+        && !dir.is_dir()
+    {
+        return Err(user_error(format!(
+            "program cache `{}` does not exist",
+            dir.display()
+        )));
+    }
+    let ScoredRuns {
+        columns,
+        scored,
+        mut notes,
+    } = load_and_score(&settings.runs)?;
+    let mut runs = Vec::with_capacity(columns.len());
+    for (column, (name, scores)) in columns.iter().zip(&scored) {
+        let model = column.manifest.as_ref().map_or_else(
+            || name.clone(),
+            |manifest| manifest.identity.program_source.clone(),
+        );
+        runs.push(SiteRun {
+            name: name.clone(),
+            facts: facts(column),
+            scores,
+            questions: &column.questions,
+            predictions: &column.predictions,
+            plots: run_plots(&model, scores, &column.questions, &column.predictions).internal()?,
+        });
+    }
+    // The cache given, then each run's own (`RUN/cache`, where an LLM run keeps its completions
+    // when no --cache was given): keys are content hashes, so any cache holding one is right.
+    let caches: Vec<ProgramCache> = settings
+        .cache
+        .iter()
+        .cloned()
+        .chain(
+            columns
+                .iter()
+                .flat_map(|column| column.dirs.iter().map(|dir| dir.join("cache")))
+                .filter(|dir| dir.is_dir()),
+        )
+        .map(|dir| ProgramCache::new(&dir))
+        .collect();
+    if caches.is_empty() {
+        notes.push(
+            "no program cache (--cache, or a run's own cache/): the units show their programs' hashes, not their texts"
+                .to_string(),
+        );
+    }
+    let unreadable = std::cell::Cell::new(0_usize);
+    let programs = |key: &str| -> Option<ProgramText> {
+        for cache in &caches {
+            match cache.get(key) {
+                Ok(Some(entry)) => {
+                    return Some(ProgramText {
+                        source: entry.source,
+                        program: entry.program,
+                        completion: entry.raw_completion,
+                    });
+                }
+                Ok(None) => {}
+                Err(_) => unreadable.set(unreadable.get() + 1),
+            }
+        }
+        None
+    };
+    let files = build_site(&runs, &programs, &notes);
+    let mut bytes = 0_usize;
+    for file in &files {
+        bytes += file.bytes.len();
+        write_atomic(&settings.out.join(&file.path), &file.bytes).user()?;
+    }
+    let mut stderr = std::io::stderr().lock();
+    for note in &notes {
+        let _ = writeln!(stderr, "note: {note}");
+    }
+    if unreadable.get() > 0 {
+        let _ = writeln!(
+            stderr,
+            "note: {} program-cache entries could not be read; those units show no program text",
+            unreadable.get()
+        );
+    }
+    let mut stdout = std::io::stdout().lock();
+    let _ = writeln!(
+        stdout,
+        "wrote {} files ({:.1} MB) for {} run(s); open {} in a browser",
+        files.len(),
+        bytes as f64 / 1e6,
+        runs.len(),
+        settings.out.join("index.html").display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Makes `out` ready: created when missing; an earlier site's files removed; anything else that
+/// is not empty refused, so no user file is overwritten.
+fn prepare_out(out: &Path) -> Result<(), AppError> {
+    if out.exists() && !out.is_dir() {
+        return Err(user_error(format!(
+            "--out `{}` is a file; give a folder for the site",
+            out.display()
+        )));
+    }
+    if out.is_dir() {
+        let marked = out.join(SITE_MARKER).is_file();
+        let empty = fs_err::read_dir(out).user()?.next().is_none();
+        if !marked && !empty {
+            return Err(user_error(format!(
+                "--out `{}` is not empty and was not written by `view`; give a new or empty folder",
+                out.display()
+            )));
+        }
+        for folder in ["runs", "assets"] {
+            let path = out.join(folder);
+            if path.is_dir() {
+                fs_err::remove_dir_all(&path).user()?;
+            }
+        }
+    }
+    fs_err::create_dir_all(out).user()?;
+    Ok(())
+}
+
+/// The run's facts for its page header.
+fn facts(column: &Column) -> Vec<(String, String)> {
+    let mut facts = vec![(
+        "run directories".to_string(),
+        column
+            .dirs
+            .iter()
+            .map(|dir| dir.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+    )];
+    let Some(manifest) = &column.manifest else {
+        facts.push(("manifest".into(), "none (an unfinished run?)".into()));
+        return facts;
+    };
+    let identity = &manifest.identity;
+    facts.push(("program source".into(), identity.program_source.clone()));
+    facts.push((
+        "backends".into(),
+        backends_line(identity.perception, identity.dynamics),
+    ));
+    facts.push((
+        "questions".into(),
+        identity
+            .question_files
+            .iter()
+            .map(|(path, _)| path.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+    ));
+    facts.push(("data root".into(), manifest.data_root.clone()));
+    facts.push((
+        "units".into(),
+        format!(
+            "{} ({} questions)",
+            column.predictions.len(),
+            column.questions.len()
+        ),
+    ));
+    facts.push((
+        "tool".into(),
+        format!(
+            "{} {}{}",
+            manifest.tool,
+            manifest.tool_version,
+            manifest
+                .git_revision
+                .as_ref()
+                .map_or_else(String::new, |rev| format!(" ({rev})"))
+        ),
+    ));
+    if manifest.finished_unix_ms > manifest.started_unix_ms {
+        facts.push((
+            "run time".into(),
+            format!(
+                "{:.1} s",
+                (manifest.finished_unix_ms - manifest.started_unix_ms) as f64 / 1000.0
+            ),
+        ));
+    }
+    if let Some(usage) = &manifest.usage {
+        facts.push((
+            "LLM usage".into(),
+            format!(
+                "{} requests, {} prompt + {} completion tokens{}",
+                usage.requests,
+                usage.prompt_tokens,
+                usage.completion_tokens,
+                usage
+                    .cost_usd
+                    .map_or_else(String::new, |usd| format!(", ${usd:.4}"))
+            ),
+        ));
+    }
+    facts
+}
