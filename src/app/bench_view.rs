@@ -57,6 +57,7 @@ pub(crate) fn bench_view(settings: &BenchViewSettings) -> Result<ExitCode, AppEr
         questions: &questions,
         predictions: &predictions,
         plots: run_plots("synthetic", &scores, &questions, &predictions).internal()?,
+        frames: std::collections::BTreeMap::new(),
     }];
     let browser = settings.browser.clone().or_else(find_browser);
     if browser.is_none() {

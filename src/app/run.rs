@@ -108,7 +108,17 @@ pub(crate) fn run(settings: &RunSettings) -> Result<ExitCode, AppError> {
             unit_order.len()
         );
     }
-    let tasks = plan_tasks(&questions, &videos, &finished, &models, settings);
+    // With perception, the frames it reads are kept with its detections drawn, for `view`.
+    let frames_dir =
+        (settings.perception == PerceptionBackend::MaskRcnn).then(|| run_dir.dir().join("frames"));
+    let tasks = plan_tasks(
+        &questions,
+        &videos,
+        &finished,
+        &models,
+        settings,
+        frames_dir.as_deref(),
+    );
     let new_predictions = run_tasks(
         &tasks,
         &questions,
@@ -430,6 +440,7 @@ fn plan_tasks(
     finished: &BTreeSet<&str>,
     models: &ScenarioModels,
     settings: &RunSettings,
+    frames_dir: Option<&std::path::Path>,
 ) -> Vec<Task> {
     let mut tasks = Vec::new();
     for (question_index, question) in questions.iter().enumerate() {
@@ -438,7 +449,11 @@ fn plan_tasks(
             continue;
         };
         let spec = VideoSpec::new(video, settings.perception, settings.dynamics)
-            .with_models(models.get(&question.scenario).cloned());
+            .with_models(models.get(&question.scenario).cloned())
+            .with_overlays(frames_dir.map(|dir| {
+                dir.join(question.scenario.name())
+                    .join(&question.video_id.0)
+            }));
         if settings.per_question && question.answer_type.is_choice() {
             let units: Vec<(String, Option<ChoiceOption>)> = question
                 .units()

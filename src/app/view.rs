@@ -5,6 +5,7 @@
 //! cache they used, for the programs' texts. Output: the site's files under `--out`, which must be
 //! new, empty, or a folder an earlier `view` wrote (then its files are replaced).
 
+use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
@@ -15,7 +16,7 @@ use super::score::{Column, ScoredRuns, load_and_score};
 use super::settings::ViewSettings;
 use crate::program::ProgramCache;
 use crate::report::run_plots;
-use crate::report::site::{ProgramText, SITE_MARKER, SiteRun, build_site};
+use crate::report::site::{ProgramText, SITE_MARKER, SiteFile, SiteRun, build_site};
 use crate::util::write_atomic;
 
 pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
@@ -34,7 +35,8 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
         mut notes,
     } = load_and_score(&settings.runs)?;
     let mut runs = Vec::with_capacity(columns.len());
-    for (column, (name, scores)) in columns.iter().zip(&scored) {
+    let mut images = Vec::new();
+    for (index, (column, (name, scores))) in columns.iter().zip(&scored).enumerate() {
         let model = column.manifest.as_ref().map_or_else(
             || name.clone(),
             |manifest| manifest.identity.program_source.clone(),
@@ -46,6 +48,7 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
             questions: &column.questions,
             predictions: &column.predictions,
             plots: run_plots(&model, scores, &column.questions, &column.predictions).internal()?,
+            frames: perception_frames(column, index + 1, &mut images, &mut notes),
         });
     }
     // The cache given, then each run's own (`RUN/cache`, where an LLM run keeps its completions
@@ -85,7 +88,8 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
         }
         None
     };
-    let files = build_site(&runs, &programs, &notes);
+    let mut files = build_site(&runs, &programs, &notes);
+    files.extend(images);
     let mut bytes = 0_usize;
     for file in &files {
         bytes += file.bytes.len();
@@ -218,4 +222,78 @@ fn facts(column: &Column) -> Vec<(String, String)> {
         ));
     }
     facts
+}
+
+/// The frames perception kept in the column's run directories (`frames/<scenario>/<video>/`,
+/// with `detections.json`), by `<scenario>/<video>`; their images are added to `images` under
+/// `runs/<run>/frames/`. An unreadable listing is noted and skipped.
+fn perception_frames(
+    column: &Column,
+    run: usize,
+    images: &mut Vec<SiteFile>,
+    notes: &mut Vec<String>,
+) -> BTreeMap<String, serde_json::Value> {
+    let mut frames = BTreeMap::new();
+    for dir in &column.dirs {
+        let root = dir.join("frames");
+        for scenario in sorted_folders(&root) {
+            for video in sorted_folders(&root.join(&scenario)) {
+                let folder = root.join(&scenario).join(&video);
+                let listing = folder.join("detections.json");
+                let Some(list) = fs_err::read(&listing)
+                    .ok()
+                    .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
+                    .and_then(|value| value.get("frames").cloned())
+                    .and_then(|value| value.as_array().cloned())
+                else {
+                    notes.push(format!(
+                        "`{}` is missing or not a frames listing; that video's frames are not shown",
+                        listing.display()
+                    ));
+                    continue;
+                };
+                let mut kept = Vec::new();
+                for frame in list {
+                    // Only plain file names beside the listing: a run directory is data, and
+                    // the site must not copy files from elsewhere.
+                    let Some(image) = frame["image"].as_str().filter(|name| {
+                        !name.is_empty()
+                            && !name.starts_with('.')
+                            && name.chars().all(|c| {
+                                c.is_ascii_alphanumeric() || c == '.' || c == '_' || c == '-'
+                            })
+                    }) else {
+                        continue;
+                    };
+                    let Ok(bytes) = fs_err::read(folder.join(image)) else {
+                        continue;
+                    };
+                    images.push(SiteFile {
+                        path: format!("runs/{run}/frames/{scenario}/{video}/{image}"),
+                        bytes,
+                    });
+                    kept.push(frame);
+                }
+                frames.insert(
+                    format!("{scenario}/{video}"),
+                    serde_json::Value::Array(kept),
+                );
+            }
+        }
+    }
+    frames
+}
+
+/// The names of the folders in `dir`, sorted; none when it cannot be read.
+fn sorted_folders(dir: &Path) -> Vec<String> {
+    let Ok(entries) = fs_err::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut names: Vec<String> = entries
+        .filter_map(Result::ok)
+        .filter(|entry| entry.path().is_dir())
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }

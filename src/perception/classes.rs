@@ -100,6 +100,11 @@ impl Class {
     pub fn same_kind(self, other: Class) -> bool {
         self.kind == other.kind
     }
+    /// A class of its own kind with `label`, for tests that need no model description.
+    #[cfg(test)]
+    pub(crate) fn for_tests(label: u16) -> Class {
+        Class { label, kind: label }
+    }
 }
 
 /// Why a model's classes could not be read.

@@ -17,6 +17,7 @@
 //! * [`runtime`]: finding and loading the ONNX Runtime library (`ort`, `load-dynamic`).
 //! * [`detector`]: the Mask R-CNN ONNX model: preprocessing, inference, mask pasting.
 //! * [`assignment`]: optimal one-to-one matching (the Hungarian method).
+//! * [`overlay`]: detections drawn on their frame (masks tinted, boxes outlined) for the viewer.
 //! * [`tracking`]: linking detections across frames into tracks with stable ids.
 //! * [`closer`]: a track's class decided again on windows of the frame at twice the scale.
 //! * [`distinct`]: distinct colours for the tracks of a class whose objects never share one.
@@ -38,6 +39,7 @@ pub mod distinct;
 pub mod evaluation;
 pub mod fluid;
 pub mod frames;
+pub mod overlay;
 pub mod palette;
 pub mod rope;
 pub mod runtime;

@@ -36,6 +36,7 @@ use crate::perception::detection::{Detection, InstanceMask, box_iou};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::distinct::separate_class_colors;
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
+use crate::perception::overlay::{class_colour, draw_detections};
 use crate::perception::palette::palette_color;
 use crate::perception::tracking::{Track, TrackerConfig, track};
 
@@ -46,6 +47,10 @@ pub const LAST_FRAME: usize = 60;
 /// The first-pass frames whose objects of a class with rivals are looked at again on windows
 /// at twice the scale (`perception::closer`): three frames spread over the pass, as measured.
 const CLOSER_LOOK_FRAMES: [usize; 3] = [0, 30, 60];
+/// Width of the frames written for the viewer, pixels.
+pub const OVERLAY_WIDTH: u32 = 480;
+/// Their JPEG quality: about 30 kB a frame of the real video, where PNG takes 260 kB.
+const OVERLAY_QUALITY: u8 = 80;
 /// Least box IoU for a track to name an annotated object.
 const MIN_BINDING_IOU: f64 = 0.3;
 
@@ -137,6 +142,9 @@ pub struct Perceiver {
     names: Vec<Option<String>>,
     /// Frames decoded and run through the detector so far.
     work: (u64, u64),
+    /// Where the first pass's frames are written with its detections drawn on them, for the
+    /// run viewer (`RUN/frames/<scenario>/<video>/`); `None`: nowhere.
+    overlays: Option<std::path::PathBuf>,
 }
 
 impl Perceiver {
@@ -163,7 +171,25 @@ impl Perceiver {
             first: Vec::new(),
             names: Vec::new(),
             work: (0, 0),
+            overlays: None,
         })
+    }
+
+    /// Opens the video of `spec` as [`Perceiver::open`] does, writing the first pass's frames
+    /// with their detections where the spec asks (`VideoSpec::overlays`).
+    pub fn open_for(
+        spec: &super::scene::VideoSpec,
+        classes: ScenarioClasses,
+        vocabulary: &'static Vocabulary,
+    ) -> Result<Self, ApiError> {
+        let mut perceiver = Perceiver::open(
+            &spec.video_dir,
+            spec.perception_models()?,
+            classes,
+            vocabulary,
+        )?;
+        perceiver.overlays.clone_from(&spec.overlays);
+        Ok(perceiver)
     }
 
     /// Frames decoded and frames run through the detector so far.
@@ -263,7 +289,57 @@ impl Perceiver {
         self.work.1 += windows;
         self.first = first;
         self.kept = per_frame.into_iter().collect();
+        if let Some(dir) = &self.overlays {
+            // For the viewer only: a frame that cannot be written leaves the answers as they
+            // are, and the viewer shows the unit without it.
+            let _ = self.write_overlays(dir, &frames);
+        }
         Ok(frames)
+    }
+
+    /// Writes the first pass's frames with their detections drawn (`<frame>.jpg`, at most
+    /// [`OVERLAY_WIDTH`] wide) and what each detection is (`detections.json`: class, colour
+    /// word, score, box in frame pixels, outline colour) into `dir`.
+    fn write_overlays(&self, dir: &Path, frames: &[RgbFrame]) -> Result<(), String> {
+        use image::ImageEncoder as _;
+        let mut listed = Vec::new();
+        for frame in frames {
+            let detections = self.kept.get(&frame.index).map_or(&[][..], Vec::as_slice);
+            let image = draw_detections(frame, detections, OVERLAY_WIDTH);
+            let mut jpeg = Vec::new();
+            image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, OVERLAY_QUALITY)
+                .write_image(
+                    image.as_raw(),
+                    image.width(),
+                    image.height(),
+                    image::ExtendedColorType::Rgb8,
+                )
+                .map_err(|e| e.to_string())?;
+            let file = format!("{:04}.jpg", frame.index);
+            crate::util::write_atomic(&dir.join(&file), &jpeg).map_err(|e| e.to_string())?;
+            let described: Vec<serde_json::Value> = detections
+                .iter()
+                .map(|detection| {
+                    let [r, g, b] = class_colour(detection.class.label());
+                    serde_json::json!({
+                        "class": self.table.as_ref().map_or("?", |table| table.name(detection.class)),
+                        "color": detection.color.and_then(palette_color).map(|c| c.word),
+                        "score": (f64::from(detection.score) * 1000.0).round() / 1000.0,
+                        "box": detection.bbox.map(|v| (f64::from(v) * 10.0).round() / 10.0),
+                        "outline": format!("#{r:02x}{g:02x}{b:02x}"),
+                    })
+                })
+                .collect();
+            listed.push(serde_json::json!({
+                "frame": frame.index,
+                "image": file,
+                "detections": described,
+            }));
+        }
+        let text = serde_json::to_string_pretty(&serde_json::json!({ "frames": listed }))
+            .map_err(|e| e.to_string())?;
+        crate::util::write_atomic(&dir.join("detections.json"), text.as_bytes())
+            .map_err(|e| e.to_string())
     }
 
     /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose

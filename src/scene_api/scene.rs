@@ -60,6 +60,10 @@ pub struct VideoSpec {
     pub dynamics: DynamicsBackend,
     /// The models of `--perception maskrcnn`; `None` for a scenario without perception.
     pub models: Option<PerceptionModels>,
+    /// Where perception writes the frames it read with its detections drawn on them, for the
+    /// run viewer (`RUN/frames/<scenario>/<video>/`); `None`: nowhere.
+    #[serde(default)]
+    pub overlays: Option<PathBuf>,
 }
 
 impl VideoSpec {
@@ -76,6 +80,7 @@ impl VideoSpec {
             perception,
             dynamics,
             models: None,
+            overlays: None,
         }
     }
 
@@ -83,6 +88,13 @@ impl VideoSpec {
     #[must_use]
     pub fn with_models(mut self, models: Option<PerceptionModels>) -> Self {
         self.models = models;
+        self
+    }
+
+    /// The spec writing perception's frames into `dir` (see [`VideoSpec::overlays`]).
+    #[must_use]
+    pub fn with_overlays(mut self, dir: Option<PathBuf>) -> Self {
+        self.overlays = dir;
         self
     }
 

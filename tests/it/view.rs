@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::support::{contphy, demo, stderr, stdout};
+use crate::support::{contphy, demo, root, stderr, stdout};
 
 /// The failing unit planted in the second run.
 const FAILED_UNIT: &str = "0/cloth_predictive_fall/0:A";
@@ -356,4 +356,135 @@ fn view_errors_name_the_folder() {
         "keep me"
     );
     insta::assert_snapshot!("view_errors", transcript);
+}
+
+#[test]
+fn view_merges_the_shards_of_a_run_into_one_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let questions = demo().join("cloth_collision/0.json");
+    for shard in ["0", "1"] {
+        let output = contphy(
+            path,
+            &[
+                "--data",
+                &demo().display().to_string(),
+                "--questions",
+                &questions.display().to_string(),
+                "--out",
+                &format!("sharded/{shard}"),
+                "--shard",
+                &format!("{shard}/2"),
+                "--jobs",
+                "1",
+                "-q",
+            ],
+        );
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    }
+    let output = contphy(path, &["view", "sharded/0", "sharded/1", "--out", "site"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("for 1 run(s)"),
+        "{}",
+        stdout(&output)
+    );
+    let index = fs_err::read_to_string(path.join("site/index.html")).unwrap();
+    assert!(index.contains(">sharded (2 shards)</a>"), "{index}");
+    let units = fs_err::read_to_string(path.join("site/runs/1/units.js")).unwrap();
+    assert_eq!(units.matches("\"cloth\"").count(), 1, "one scenario name");
+    // Both shards' units, 40 in all, in one index.
+    let start = units.find("\"units\":").unwrap();
+    assert_eq!(units[start..].matches("],[").count() + 1, 40);
+}
+
+#[test]
+fn a_perception_run_keeps_its_frames_and_the_viewer_shows_them_with_the_detections() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    // Two colour questions of the real video: perception's first pass only (frames 0–60).
+    let mut questions: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(demo().join("pulley_group/0.json")).unwrap()).unwrap();
+    let colors: Vec<serde_json::Value> = questions["question_dict"]["color"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .take(2)
+        .cloned()
+        .collect();
+    questions["question_dict"] = serde_json::json!({ "color": colors });
+    fs_err::write(path.join("0.json"), questions.to_string()).unwrap();
+    // From the repository's root, where the default model files are.
+    let (question_file, run) = (path.join("0.json"), path.join("run"));
+    let output = contphy(
+        &root(),
+        &[
+            "--data",
+            "eval/demo",
+            "--questions",
+            &question_file.display().to_string(),
+            "--perception",
+            "maskrcnn",
+            "--out",
+            &run.display().to_string(),
+            "-q",
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let frames = path.join("run/frames/rope/0");
+    let listing: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(frames.join("detections.json")).unwrap()).unwrap();
+    let listed: Vec<u64> = listing["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|frame| frame["frame"].as_u64().unwrap())
+        .collect();
+    assert_eq!(listed, [0, 10, 20, 30, 40, 50, 60]);
+    for frame in listing["frames"].as_array().unwrap() {
+        let image = fs_err::read(frames.join(frame["image"].as_str().unwrap())).unwrap();
+        assert_eq!(&image[..3], [0xff, 0xd8, 0xff], "a JPEG");
+        // The real video's mechanism: two ropes and eight elements, about ten detections.
+        let found = frame["detections"].as_array().unwrap().len();
+        assert!((6..=14).contains(&found), "{found} detections");
+    }
+    let output = contphy(path, &["view", "run", "--out", "site"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let site = path.join("site").canonicalize().unwrap();
+    assert!(site.join("runs/1/frames/rope/0/0030.jpg").is_file());
+    let Some(browser) = browser() else {
+        assert!(
+            std::env::var_os("CONTPHY_REQUIRE_BROWSER").is_none(),
+            "CONTPHY_REQUIRE_BROWSER is set but no browser was found"
+        );
+        eprintln!("skipped the browser half: no chromium-headless-shell or chromium on the PATH");
+        return;
+    };
+    let unit = fs_err::read_to_string(path.join("run/predictions.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap())
+        .next()
+        .unwrap()["unit"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let (dom, errors) = dump_dom(
+        &browser,
+        &site.join("runs/1/index.html"),
+        &format!("#unit={unit}"),
+    );
+    assert!(!errors.contains("Uncaught"), "a script failed:\n{errors}");
+    let detail = element_text(&dom, "detail");
+    assert!(detail.contains("What the detector saw"), "{detail}");
+    assert!(
+        detail.contains("frames 0, 10, 20, 30, 40, 50, 60"),
+        "{detail}"
+    );
+    assert!(detail.contains("frame 30"), "{detail}");
+    assert_eq!(
+        dom.matches("src=\"frames/rope/0/").count(),
+        7,
+        "seven images"
+    );
 }

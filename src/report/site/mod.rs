@@ -46,6 +46,10 @@ pub struct SiteRun<'a> {
     pub predictions: &'a [Prediction],
     /// Its plots.
     pub plots: Vec<Plot>,
+    /// Per video (`<scenario>/<video>`), the frames perception read with its detections drawn:
+    /// the run's `frames/<scenario>/<video>/detections.json` list (`frame`, `image`,
+    /// `detections`), its images copied by the caller to `runs/<k>/frames/<scenario>/<video>/`.
+    pub frames: BTreeMap<String, Value>,
 }
 
 /// A program's text as the program cache holds it.
@@ -112,6 +116,15 @@ pub fn build_site_chunked(
             files.push(SiteFile::text(
                 format!("{folder}/plots/{}", plot.file_name),
                 plot.svg.clone(),
+            ));
+        }
+        if !run.frames.is_empty() {
+            files.push(SiteFile::text(
+                format!("{folder}/frames.js"),
+                format!(
+                    "window.CONTPHY_FRAMES = {};\n",
+                    serde_json::to_string(&run.frames).unwrap_or_else(|_| "{}".into())
+                ),
             ));
         }
         let units = unit_rows(run);
@@ -318,7 +331,12 @@ fn run_page(run: &SiteRun) -> String {
          <section id=\"detail\" hidden></section>\n<nav id=\"pager\"></nav>\n\
          <table id=\"units\" class=\"units\"><thead><tr><th>Unit</th><th>Scenario</th><th>Family</th>\
          <th>Correct</th><th>Failed stage</th></tr></thead><tbody></tbody></table>\n\
-         <script src=\"units.js\"></script>\n<script src=\"../../assets/viewer.js\"></script>\n</body>\n</html>"
+         <script src=\"units.js\"></script>\n{}<script src=\"../../assets/viewer.js\"></script>\n</body>\n</html>",
+        if run.frames.is_empty() {
+            ""
+        } else {
+            "<script src=\"frames.js\"></script>\n"
+        }
     );
     out
 }

@@ -136,6 +136,7 @@ fn the_site_lists_every_unit_with_its_stage_and_the_programs_text() {
         questions: &questions,
         predictions: &predictions,
         plots: Vec::new(),
+        frames: BTreeMap::new(),
     };
     let programs = |key: &str| {
         (key == "key-0/counterfactual/0:B").then(|| ProgramText {
@@ -216,6 +217,7 @@ fn details_come_in_chunks_of_a_fixed_size() {
         questions: &questions,
         predictions: &[],
         plots: Vec::new(),
+        frames: BTreeMap::new(),
     };
     let files = build_site(&[run], &|_| None, &[]);
     let chunks: Vec<usize> = (0..3)

@@ -202,6 +202,36 @@
     return block;
   }
 
+  // The frames perception read for the unit's video, its detections drawn on them and listed
+  // beside each in the colour of their outline.
+  function framesBlock(detail, frames) {
+    const block = element("div", null, "frames");
+    block.appendChild(element("h3", "What the detector saw"));
+    const decoded = detail.work ? detail.work.frames_decoded : 0;
+    block.appendChild(element("p", "The first pass of perception over video " + detail.video +
+      " (frames " + frames.map((f) => f.frame).join(", ") + "); this unit's scene decoded " +
+      decoded + " frame(s) itself (0: the video's scene was read by an earlier unit)."));
+    for (const frame of frames) {
+      const figure = element("figure", null, "frame");
+      const image = element("img");
+      image.src = "frames/" + detail.scenario + "/" + detail.video + "/" + frame.image;
+      image.alt = "frame " + frame.frame + " with the detector's boxes and masks";
+      figure.appendChild(image);
+      const caption = element("figcaption", "frame " + frame.frame);
+      const list = element("ul", null, "detections");
+      for (const found of frame.detections) {
+        const item = element("li", found.class + (found.color ? " (" + found.color + ")" : "") +
+          ", score " + found.score + ", box " + found.box.join(", "));
+        if (/^#[0-9a-f]{6}$/.test(found.outline)) item.style.borderLeft = "0.6em solid " + found.outline;
+        list.appendChild(item);
+      }
+      caption.appendChild(list);
+      figure.appendChild(caption);
+      block.appendChild(figure);
+    }
+    return block;
+  }
+
   function renderDetail(detail) {
     const section = document.getElementById("detail");
     section.hidden = false;
@@ -241,6 +271,8 @@
     }
     if (detail.timing_ms) field(table, "time (ms)", "own " + detail.timing_ms.own + ", scene API " + detail.timing_ms.api + ", wall " + detail.timing_ms.wall);
     const parts = [close, element("h2", "Unit " + detail.unit), table];
+    const frames = (window.CONTPHY_FRAMES || {})[detail.scenario + "/" + detail.video];
+    if (frames && frames.length) parts.push(framesBlock(detail, frames));
     if (detail.origin !== undefined) parts.push(programBlock(detail.program, detail.program_hash, "Program"));
     (detail.attempts || []).forEach((attempt) => {
       const title = "Attempt: sample " + attempt.sample + ", turn " + attempt.attempt +

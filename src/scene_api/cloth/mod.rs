@@ -91,12 +91,7 @@ pub fn load(spec: &VideoSpec) -> Result<Box<dyn ScenarioBackend>, ApiError> {
     // `--perception maskrcnn`: of the annotation only the camera calibration is read, unless
     // the dynamics are the annotation's (whose recorded outcomes are keyed by its names).
     let camera = calibration(annotation.camera.as_ref())?.clone();
-    let mut perceiver = Perceiver::open(
-        &spec.video_dir,
-        spec.perception_models()?,
-        PERCEPTION.classes,
-        &VOCABULARY,
-    )?;
+    let mut perceiver = Perceiver::open_for(spec, PERCEPTION.classes, &VOCABULARY)?;
     let perceived = perceived::perceive_scene(&mut perceiver, &camera)?;
     perceiver.set_names(perceived.names.clone());
     let backend = match spec.dynamics {

@@ -152,12 +152,7 @@ impl FluidBackend {
         // `--perception maskrcnn`: of the annotation only the camera calibration is read,
         // unless the dynamics are the annotation's (whose recorded runs are keyed by its names).
         let camera = calibration(annotation.camera.as_ref())?.clone();
-        let mut perceiver = Perceiver::open(
-            &spec.video_dir,
-            spec.perception_models()?,
-            PERCEPTION.classes,
-            &VOCABULARY,
-        )?;
+        let mut perceiver = Perceiver::open_for(spec, PERCEPTION.classes, &VOCABULARY)?;
         let perceived = perceive_scene(&mut perceiver, &camera)?;
         perceiver.set_names(perceived.names.clone());
         let mut backend = match spec.dynamics {

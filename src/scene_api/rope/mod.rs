@@ -124,12 +124,9 @@ impl RopeBackend {
         let annotation = RopeAnnotation::load(&video_dir.join("outputs.json"))?;
         let dynamics = spec.dynamics;
         let perceiver = match spec.perception {
-            PerceptionBackend::MaskRcnn => Some(Perceiver::open(
-                video_dir,
-                spec.perception_models()?,
-                PERCEPTION.classes,
-                &VOCABULARY,
-            )?),
+            PerceptionBackend::MaskRcnn => {
+                Some(Perceiver::open_for(spec, PERCEPTION.classes, &VOCABULARY)?)
+            }
             PerceptionBackend::Annotation => None,
         };
         let perceiver = match perceiver {
