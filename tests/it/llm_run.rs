@@ -505,6 +505,48 @@ fn a_broken_program_gets_one_repair_turn_that_shows_the_error() {
         let attempts = prediction["attempts"].as_array().unwrap();
         assert_eq!(attempts.len(), 2, "{prediction}");
     }
+    // The viewer shows both turns of a unit, each with its completion (from the run's own
+    // cache), the first with its error.
+    let site = dir.path().join("site");
+    let output = run(
+        &[
+            "view",
+            out.to_str().unwrap(),
+            "--out",
+            site.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let chunk = fs_err::read_to_string(site.join("runs/1/units/0.js")).unwrap();
+    let start = chunk.find('[').unwrap();
+    let details: Value =
+        serde_json::from_str(&chunk[start..chunk.rfind(']').unwrap() + 1]).unwrap();
+    let first = &details[0];
+    assert_eq!(first["attempts"].as_array().unwrap().len(), 2, "{first}");
+    let broken = &first["attempts"][0];
+    assert_eq!(broken["error"]["stage"], "sandbox", "{broken}");
+    assert_eq!(broken["error"]["kind"], "syntax", "{broken}");
+    assert!(
+        broken["program"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("def execute_command(video)\n    return 'yes'"),
+        "{broken}"
+    );
+    assert!(
+        broken["program"]["completion"]
+            .as_str()
+            .unwrap()
+            .starts_with("```python"),
+        "{broken}"
+    );
+    let repaired = &first["attempts"][1];
+    assert!(repaired["error"].is_null(), "{repaired}");
+    assert_eq!(
+        first["program"], repaired["program"],
+        "the unit's program is the repair"
+    );
     // Without repair turns every unit fails at the sandbox stage.
     let out = dir.path().join("no-repair");
     let output = run(

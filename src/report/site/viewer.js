@@ -282,6 +282,7 @@
     section.replaceChildren(...parts);
     // Since the navigation began: what opening this unit from its link costs (bench view).
     section.dataset.detailMs = performance.now().toFixed(1);
+    section.scrollIntoView({ block: "start" });
   }
 
   function renderUnit(state) {
