@@ -43,7 +43,7 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
         );
         runs.push(SiteRun {
             name: name.clone(),
-            facts: facts(column),
+            facts: facts(column, scores),
             scores,
             questions: &column.questions,
             predictions: &column.predictions,
@@ -148,7 +148,7 @@ fn prepare_out(out: &Path) -> Result<(), AppError> {
 }
 
 /// The run's facts for its page header.
-fn facts(column: &Column) -> Vec<(String, String)> {
+fn facts(column: &Column, scores: &crate::score::Scores) -> Vec<(String, String)> {
     let mut facts = vec![(
         "run directories".to_string(),
         column
@@ -178,12 +178,20 @@ fn facts(column: &Column) -> Vec<(String, String)> {
             .join(", "),
     ));
     facts.push(("data root".into(), manifest.data_root.clone()));
+    let failed: u64 = scores
+        .failures
+        .values()
+        .flat_map(|kinds| kinds.values())
+        .sum();
     facts.push((
         "units".into(),
         format!(
-            "{} ({} questions)",
-            column.predictions.len(),
-            column.questions.len()
+            "{} of {} questions: {} answered, {} failed, {} missing",
+            scores.units,
+            column.questions.len(),
+            scores.units_answered,
+            failed,
+            scores.missing_units
         ),
     ));
     facts.push((

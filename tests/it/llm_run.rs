@@ -520,8 +520,7 @@ fn a_broken_program_gets_one_repair_turn_that_shows_the_error() {
     assert!(output.status.success(), "{}", stderr(&output));
     let chunk = fs_err::read_to_string(site.join("runs/1/units/0.js")).unwrap();
     let start = chunk.find('[').unwrap();
-    let details: Value =
-        serde_json::from_str(&chunk[start..chunk.rfind(']').unwrap() + 1]).unwrap();
+    let details: Value = serde_json::from_str(&chunk[start..=chunk.rfind(']').unwrap()]).unwrap();
     let first = &details[0];
     assert_eq!(first["attempts"].as_array().unwrap().len(), 2, "{first}");
     let broken = &first["attempts"][0];
