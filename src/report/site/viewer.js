@@ -255,7 +255,7 @@
     field(table, "option", detail.option);
     field(table, "truth", detail.truth);
     field(table, "answer", detail.answer);
-    field(table, "value", detail.value === undefined ? undefined : JSON.stringify(detail.value));
+    field(table, "value", detail.value === undefined || detail.value === null ? undefined : JSON.stringify(detail.value));
     field(table, "correct", detail.correct ? "yes" : "no");
     if (detail.error) {
       field(table, "error", detail.error.stage + " / " + detail.error.kind + ": " + detail.error.message);
