@@ -10,8 +10,9 @@
 //! annotations loads its scenario's backend once, and every result is computed once. Each scene
 //! counts its own work ([`WorkCounters`]) so a prediction can show what it cost.
 //!
-//! Shared here: scenes, objects, `find`'s parser and the detector-backed [`perceiver`]. Each
-//! scenario's backend lives in `scene_api/<scenario>/`.
+//! Shared here: scenes, objects, `find`'s parser, the detector-backed [`perceiver`] and the
+//! frames it keeps for the viewer (`overlays`). Each scenario's backend lives in
+//! `scene_api/<scenario>/`.
 
 pub mod ball;
 pub mod cloth;
@@ -19,6 +20,7 @@ mod error;
 mod find;
 pub mod fluid;
 mod object;
+mod overlays;
 pub mod perceiver;
 pub mod rope;
 mod scene;

@@ -25,6 +25,7 @@ use std::path::Path;
 use std::sync::{Mutex, PoisonError};
 
 use super::error::ApiError;
+use super::overlays::write_overlays;
 use super::scene::PerceptionModels;
 use crate::dataset::{SegmentationRecords, Vocabulary};
 use crate::perception::assignment::assign;
@@ -36,7 +37,6 @@ use crate::perception::detection::{Detection, InstanceMask, box_iou};
 use crate::perception::detector::{Detector, DetectorConfig};
 use crate::perception::distinct::separate_class_colors;
 use crate::perception::frames::{FrameSource, RgbFrame, Stream, VideoInfo};
-use crate::perception::overlay::{class_colour, draw_detections};
 use crate::perception::palette::palette_color;
 use crate::perception::tracking::{Track, TrackerConfig, track};
 
@@ -47,10 +47,6 @@ pub const LAST_FRAME: usize = 60;
 /// The first-pass frames whose objects of a class with rivals are looked at again on windows
 /// at twice the scale (`perception::closer`): three frames spread over the pass, as measured.
 const CLOSER_LOOK_FRAMES: [usize; 3] = [0, 30, 60];
-/// Width of the frames written for the viewer, pixels.
-pub const OVERLAY_WIDTH: u32 = 480;
-/// Their JPEG quality: about 30 kB a frame of the real video, where PNG takes 260 kB.
-const OVERLAY_QUALITY: u8 = 80;
 /// Least box IoU for a track to name an annotated object.
 const MIN_BINDING_IOU: f64 = 0.3;
 
@@ -292,54 +288,16 @@ impl Perceiver {
         if let Some(dir) = &self.overlays {
             // For the viewer only: a frame that cannot be written leaves the answers as they
             // are, and the viewer shows the unit without it.
-            let _ = self.write_overlays(dir, &frames);
-        }
-        Ok(frames)
-    }
-
-    /// Writes the first pass's frames with their detections drawn (`<frame>.jpg`, at most
-    /// [`OVERLAY_WIDTH`] wide) and what each detection is (`detections.json`: class, colour
-    /// word, score, box in frame pixels, outline colour) into `dir`.
-    fn write_overlays(&self, dir: &Path, frames: &[RgbFrame]) -> Result<(), String> {
-        use image::ImageEncoder as _;
-        let mut listed = Vec::new();
-        for frame in frames {
-            let detections = self.kept.get(&frame.index).map_or(&[][..], Vec::as_slice);
-            let image = draw_detections(frame, detections, OVERLAY_WIDTH);
-            let mut jpeg = Vec::new();
-            image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, OVERLAY_QUALITY)
-                .write_image(
-                    image.as_raw(),
-                    image.width(),
-                    image.height(),
-                    image::ExtendedColorType::Rgb8,
-                )
-                .map_err(|e| e.to_string())?;
-            let file = format!("{:04}.jpg", frame.index);
-            crate::util::write_atomic(&dir.join(&file), &jpeg).map_err(|e| e.to_string())?;
-            let described: Vec<serde_json::Value> = detections
+            let drawn: Vec<(&RgbFrame, &[Detection])> = frames
                 .iter()
-                .map(|detection| {
-                    let [r, g, b] = class_colour(detection.class.label());
-                    serde_json::json!({
-                        "class": self.table.as_ref().map_or("?", |table| table.name(detection.class)),
-                        "color": detection.color.and_then(palette_color).map(|c| c.word),
-                        "score": (f64::from(detection.score) * 1000.0).round() / 1000.0,
-                        "box": detection.bbox.map(|v| (f64::from(v) * 10.0).round() / 10.0),
-                        "outline": format!("#{r:02x}{g:02x}{b:02x}"),
-                    })
+                .map(|frame| {
+                    let detections = self.kept.get(&frame.index).map_or(&[][..], Vec::as_slice);
+                    (frame, detections)
                 })
                 .collect();
-            listed.push(serde_json::json!({
-                "frame": frame.index,
-                "image": file,
-                "detections": described,
-            }));
+            let _ = write_overlays(dir, self.table.as_ref(), &drawn);
         }
-        let text = serde_json::to_string_pretty(&serde_json::json!({ "frames": listed }))
-            .map_err(|e| e.to_string())?;
-        crate::util::write_atomic(&dir.join("detections.json"), text.as_bytes())
-            .map_err(|e| e.to_string())
+        Ok(frames)
     }
 
     /// The objects of the video under the oracle dynamics (`--dynamics annotation`), whose
@@ -505,6 +463,18 @@ impl Perceiver {
             self.work.1 += frames.len() as u64;
             if table.is_some() {
                 self.table = table;
+            }
+            if let (Some(dir), false) = (&self.overlays, keep) {
+                // A full pass keeps every FRAME_STEP-th frame it read for the viewer (the
+                // first pass's are written already); a failed write changes no answer.
+                let drawn: Vec<(&RgbFrame, &[Detection])> = frames
+                    .iter()
+                    .filter(|frame| frame.index % FRAME_STEP == 0)
+                    .filter_map(|frame| Some((frame, found.get(&frame.index)?.as_slice())))
+                    .collect();
+                if !drawn.is_empty() {
+                    let _ = write_overlays(dir, self.table.as_ref(), &drawn);
+                }
             }
             if keep {
                 kept_frames.extend(frames);

@@ -208,9 +208,9 @@
     const block = element("div", null, "frames");
     block.appendChild(element("h3", "What the detector saw"));
     const decoded = detail.work ? detail.work.frames_decoded : 0;
-    block.appendChild(element("p", "The first pass of perception over video " + detail.video +
-      " (frames " + frames.map((f) => f.frame).join(", ") + "); this unit's scene decoded " +
-      decoded + " frame(s) itself (0: the video's scene was read by an earlier unit)."));
+    block.appendChild(element("p", "Every tenth frame perception read of video " + detail.video +
+      " (frames " + frames.map((f) => f.frame).join(", ") + "), by any unit of the run; this " +
+      "unit's scene decoded " + decoded + " frame(s) itself (0: an earlier unit read the video)."));
     for (const frame of frames) {
       const figure = element("figure", null, "frame");
       const image = element("img");
