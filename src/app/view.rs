@@ -72,7 +72,7 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
         );
     }
     let unreadable = std::cell::Cell::new(0_usize);
-    let programs = |key: &str| -> Option<ProgramText> {
+    let find = |key: &str| -> Option<ProgramText> {
         for cache in &caches {
             match cache.get(key) {
                 Ok(Some(entry)) => {
@@ -87,6 +87,18 @@ pub(crate) fn view(settings: &ViewSettings) -> Result<ExitCode, AppError> {
             }
         }
         None
+    };
+    // A key is read once: the options of a per-question program and a unit's last repair turn
+    // name the same program.
+    let read: std::cell::RefCell<BTreeMap<String, Option<ProgramText>>> =
+        std::cell::RefCell::default();
+    let programs = |key: &str| -> Option<ProgramText> {
+        if let Some(known) = read.borrow().get(key) {
+            return known.clone();
+        }
+        let found = find(key);
+        read.borrow_mut().insert(key.to_string(), found.clone());
+        found
     };
     let mut files = build_site(&runs, &programs, &notes);
     files.extend(images);
@@ -178,11 +190,7 @@ fn facts(column: &Column, scores: &crate::score::Scores) -> Vec<(String, String)
             .join(", "),
     ));
     facts.push(("data root".into(), manifest.data_root.clone()));
-    let failed: u64 = scores
-        .failures
-        .values()
-        .flat_map(|kinds| kinds.values())
-        .sum();
+    let failed = scores.failed_units();
     facts.push((
         "units".into(),
         format!(

@@ -128,11 +128,7 @@ fn failure_bars(scores: &Scores) -> Bars {
         categories.push("missing prediction".into());
         counts.push(Some(scores.missing_units as f64));
     }
-    let failed: u64 = scores
-        .failures
-        .values()
-        .flat_map(|kinds| kinds.values())
-        .sum();
+    let failed = scores.failed_units();
     Bars {
         file_name: "failures.svg".into(),
         title: format!(
@@ -174,14 +170,8 @@ pub fn family_work(
         let entry = families
             .entry((prediction.scenario, *category, prediction.family.clone()))
             .or_default();
-        let (sum, work) = (&mut entry.work, &prediction.work);
         entry.units += 1;
-        sum.annotation_loads += work.annotation_loads;
-        sum.frames_decoded += work.frames_decoded;
-        sum.detections += work.detections;
-        sum.sim_runs += work.sim_runs;
-        sum.sim_steps += work.sim_steps;
-        sum.api_calls += work.api_calls;
+        entry.work.add(&prediction.work);
     }
     families
 }

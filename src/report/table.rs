@@ -100,7 +100,8 @@ pub fn table2_rows(scores: &Scores) -> Vec<Table2Row> {
         .collect()
 }
 
-fn cell(value: Option<f64>) -> String {
+/// A percentage cell: one decimal, or `—` without a value.
+pub(super) fn cell(value: Option<f64>) -> String {
     value.map_or_else(|| "—".to_string(), |v| format!("{v:.1}"))
 }
 
@@ -122,11 +123,7 @@ pub fn render_run_report(meta: &ReportMeta, scores: &Scores) -> String {
     }
     let _ = writeln!(out, "- backends: {}", meta.backends);
     let _ = writeln!(out, "- questions: {}", meta.questions);
-    let failed: u64 = scores
-        .failures
-        .values()
-        .flat_map(|kinds| kinds.values())
-        .sum();
+    let failed = scores.failed_units();
     let _ = writeln!(
         out,
         "- units: {} ({} answered, {} failed, {} missing)\n",

@@ -153,6 +153,16 @@ pub struct WorkCounters {
 }
 
 impl WorkCounters {
+    /// Adds `other`, field by field: the work of several units together.
+    pub fn add(&mut self, other: &WorkCounters) {
+        self.annotation_loads += other.annotation_loads;
+        self.frames_decoded += other.frames_decoded;
+        self.detections += other.detections;
+        self.sim_runs += other.sim_runs;
+        self.sim_steps += other.sim_steps;
+        self.api_calls += other.api_calls;
+    }
+
     /// `self - earlier`, field by field: the work done between two snapshots.
     #[must_use]
     pub fn since(&self, earlier: &WorkCounters) -> WorkCounters {

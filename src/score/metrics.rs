@@ -77,6 +77,16 @@ pub struct Scores {
     pub duplicate_units: u64,
 }
 
+impl Scores {
+    /// Units that failed at some stage (units without a prediction are not counted).
+    pub fn failed_units(&self) -> u64 {
+        self.failures
+            .values()
+            .flat_map(|kinds| kinds.values())
+            .sum()
+    }
+}
+
 struct Accumulator {
     model: Tally,
     rnd: ExpectedTally,

@@ -18,7 +18,7 @@ use std::fmt::Write as _;
 use serde_json::{Value, json};
 
 use super::plots::Plot;
-use super::table::{Table2Row, table2_rows};
+use super::table::{Table2Row, cell, table2_rows};
 use crate::dataset::{Category, Scenario};
 use crate::score::{EvalQuestion, Prediction, Scores};
 
@@ -172,10 +172,6 @@ fn page_start(title: &str, root: &str) -> String {
     )
 }
 
-fn percent_cell(value: Option<f64>) -> String {
-    value.map_or_else(|| "—".to_string(), |v| format!("{v:.1}"))
-}
-
 /// The settings of the Table-2 layout, in the paper's order.
 fn settings_in_order() -> Vec<String> {
     let mut settings = vec!["Prop.".to_string()];
@@ -235,20 +231,20 @@ fn leaderboard_page(runs: &[SiteRun], notes: &[String]) -> String {
                 "<tr><td>{subset}</td><td>{}</td><td>{:.1}</td><td>{}</td>",
                 escape_html(&setting),
                 baseline.rnd,
-                percent_cell(baseline.frq)
+                cell(baseline.frq)
             );
             for row in &found {
                 let _ = write!(
                     out,
                     "<td class=\"model\">{}</td>",
-                    percent_cell(row.map(|r| r.model))
+                    cell(row.map(|r| r.model))
                 );
             }
             let _ = writeln!(
                 out,
                 "<td>{}</td><td>{}</td></tr>",
-                percent_cell(paper.map(|p| p.contpro)),
-                percent_cell(paper.map(|p| p.human))
+                cell(paper.map(|p| p.contpro)),
+                cell(paper.map(|p| p.human))
             );
         }
     }
@@ -305,11 +301,11 @@ fn run_page(run: &SiteRun) -> String {
             row.scenario.label(),
             escape_html(&row.setting),
             row.rnd,
-            percent_cell(row.frq),
+            cell(row.frq),
             row.model,
             row.n,
-            percent_cell(paper.map(|p| p.contpro)),
-            percent_cell(paper.map(|p| p.human))
+            cell(paper.map(|p| p.contpro)),
+            cell(paper.map(|p| p.human))
         );
     }
     let _ = writeln!(out, "</tbody></table>");
