@@ -400,6 +400,12 @@ fn feature_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 /// Weight of log brightness against chromaticity in [`feature_distance`].
 const BRIGHTNESS_WEIGHT: f64 = 0.15;
+/// How far from the wall's feature a mask pixel must be to be taken for the rope's own.
+const WALL_MARGIN: f64 = 0.15;
+/// Log brightness feature under which a pixel is as dark as a rope tube's shaded sides and
+/// strands (linear brightness under 3% of the wall's: those measure 0 to 2.5%, a black rope's
+/// lit body 6% and more).
+const EDGE_LOG_BRIGHTNESS: f64 = -2.4;
 /// Farthest a pixel's feature may be from its rope's and still count as the rope.
 const MAX_ROPE_DISTANCE: f64 = 0.09;
 
@@ -435,11 +441,18 @@ impl RopeEvidence {
             return evidence;
         };
         // The rope's colour: the per-channel median feature of the half of its mask's pixels
-        // least like the wall (a thin rope's mask is a band, mostly wall).
+        // least like the wall (a thin rope's mask is a band, mostly wall), leaving out the pixels
+        // of other objects (a rope's mask covers part of the pulleys it wraps).
         let wall_feature = [1.0 / 3.0, 1.0 / 3.0, 3.0_f64.ln()];
         let mut pixels: Vec<[f64; 3]> = detection
             .mask
             .pixels()
+            .filter(|&(x, y)| {
+                !occupied
+                    .get(y as usize * frame.width as usize + x as usize)
+                    .copied()
+                    .unwrap_or(false)
+            })
             .filter_map(|(x, y)| pixel_feature(frame, x, y, wall))
             .collect();
         if pixels.len() < 20 {
@@ -448,12 +461,32 @@ impl RopeEvidence {
         pixels.sort_by(|a, b| {
             feature_distance(*a, wall_feature).total_cmp(&feature_distance(*b, wall_feature))
         });
-        let rope_like = &pixels[pixels.len() / 2..];
-        let reference = [0, 1, 2].map(|c| {
-            let mut values: Vec<f64> = rope_like.iter().map(|f| f[c]).collect();
-            values.sort_by(f64::total_cmp);
-            values[values.len() / 2]
-        });
+        let median = |features: &[[f64; 3]]| {
+            [0, 1, 2].map(|c| {
+                let mut values: Vec<f64> = features.iter().map(|f| f[c]).collect();
+                values.sort_by(f64::total_cmp);
+                values[values.len() / 2]
+            })
+        };
+        let mut reference = median(&pixels[pixels.len() / 2..]);
+        // A rope is a shaded, striped tube: its sides turned from the light and its dark strands
+        // come out near black whatever its colour, and they are the pixels least like the wall.
+        // For a dark rope they outnumber its body in that half, and a reference that dark matches
+        // nothing but those shadows (seed 5821's black rope in video 44 was read nowhere). Then
+        // the rope's colour is the median of its body: the pixels unlike the wall that are not as
+        // dark as a shadow.
+        if reference[2] < EDGE_LOG_BRIGHTNESS {
+            let body: Vec<[f64; 3]> = pixels
+                .iter()
+                .filter(|f| {
+                    f[2] >= EDGE_LOG_BRIGHTNESS && feature_distance(**f, wall_feature) > WALL_MARGIN
+                })
+                .copied()
+                .collect();
+            if body.len() >= 10 {
+                reference = median(&body);
+            }
+        }
         // The whole frame, less the objects: the detector's box often misses part of a long
         // rope, and an object of the rope's colour is not rope.
         let (width, height) = (frame.width, frame.height);
@@ -550,6 +583,60 @@ mod tests {
         assert!(exit_point(&w, (49, 92), 20).is_none());
         // No rope end where the arms join the bottom rows.
         assert!(ends.iter().all(|&(_, y)| y <= 50 || y >= 94), "{ends:?}");
+    }
+
+    #[test]
+    fn a_black_ropes_colour_is_its_lit_body_not_its_shadowed_sides() {
+        // A vertical black rope 9 pixels wide on a light wall: three near-black pixels on each
+        // side (its shaded sides and strands) round three lit ones. The detector's mask is a
+        // band round its upper half only, as a coarse mask of a long rope often is.
+        let (width, height) = (200_u32, 100_u32);
+        let wall = [210_u8, 206, 200];
+        let rope_column = |x: u32| -> Option<u8> {
+            match x {
+                96 | 104 => Some(0),
+                97 | 103 => Some(10),
+                98 | 102 => Some(30),
+                99 => Some(70),
+                100 => Some(100),
+                101 => Some(80),
+                _ => None,
+            }
+        };
+        let mut rgb = Vec::with_capacity((width * height * 3) as usize);
+        for _y in 0..height {
+            for x in 0..width {
+                match rope_column(x) {
+                    Some(v) => rgb.extend([v, v, v]),
+                    None => rgb.extend(wall),
+                }
+            }
+        }
+        let frame = RgbFrame {
+            index: 0,
+            width,
+            height,
+            rgb,
+        };
+        let rope = detection(
+            "rope",
+            InstanceMask::from_predicate(width, height, |x, y| (91..=109).contains(&x) && y < 50),
+        );
+        let wall_linear = wall.map(srgb_to_linear);
+        let occupied = vec![false; (width * height) as usize];
+        let evidence = RopeEvidence::new(&rope, Some((&frame, wall_linear)), &occupied);
+        // Below the mask the rope's lit pixels are found by colour; the wall beside it is not.
+        for y in [60, 80, 99] {
+            assert!(
+                (99..=101).any(|x| evidence.at(x, y) == Sample::OnColour),
+                "row {y}: no lit rope pixel found"
+            );
+            assert_eq!(
+                evidence.at(120, y),
+                Sample::Missed,
+                "row {y}: wall taken for rope"
+            );
+        }
     }
 
     fn detection(class: &str, mask: InstanceMask) -> Detection {
