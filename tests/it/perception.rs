@@ -570,16 +570,7 @@ fn every_question_of_the_real_video_is_answered_right_from_its_pixels() {
     }
     // The mass and tension questions' full pass read every frame; every tenth is kept for the
     // viewer with its detections drawn (the first pass's 0–60 and the full pass's 70–140).
-    let listing: serde_json::Value = serde_json::from_slice(
-        &fs_err::read(run_dir.join("frames/rope/0/detections.json")).unwrap(),
-    )
-    .unwrap();
-    let kept: Vec<u64> = listing["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|frame| frame["frame"].as_u64().unwrap())
-        .collect();
+    let (_, kept) = crate::support::kept_frames(&run_dir.join("frames/rope/0"));
     assert_eq!(kept, (0..=140).step_by(10).collect::<Vec<u64>>());
     assert!(run_dir.join("frames/rope/0/0140.jpg").is_file());
 }

@@ -126,3 +126,17 @@ pub(crate) fn assert_perfect(
     }
     scores
 }
+
+/// The frames a run kept for the viewer of one video (`RUN/frames/<scenario>/<video>/`), as its
+/// `detections.json` lists them: the listing and its frame numbers in order.
+pub(crate) fn kept_frames(frames: &Path) -> (serde_json::Value, Vec<u64>) {
+    let listing: serde_json::Value =
+        serde_json::from_slice(&fs_err::read(frames.join("detections.json")).unwrap()).unwrap();
+    let numbers = listing["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|frame| frame["frame"].as_u64().unwrap())
+        .collect();
+    (listing, numbers)
+}

@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::support::{contphy, demo, root, stderr, stdout};
+use crate::support::{contphy, demo, kept_frames, root, stderr, stdout};
 
 /// The failing unit planted in the second run.
 const FAILED_UNIT: &str = "0/cloth_predictive_fall/0:A";
@@ -432,14 +432,7 @@ fn a_perception_run_keeps_its_frames_and_the_viewer_shows_them_with_the_detectio
     );
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let frames = path.join("run/frames/rope/0");
-    let listing: serde_json::Value =
-        serde_json::from_slice(&fs_err::read(frames.join("detections.json")).unwrap()).unwrap();
-    let listed: Vec<u64> = listing["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|frame| frame["frame"].as_u64().unwrap())
-        .collect();
+    let (listing, listed) = kept_frames(&frames);
     assert_eq!(listed, [0, 10, 20, 30, 40, 50, 60]);
     for frame in listing["frames"].as_array().unwrap() {
         let image = fs_err::read(frames.join(frame["image"].as_str().unwrap())).unwrap();

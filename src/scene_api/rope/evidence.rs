@@ -476,11 +476,12 @@ impl RopeEvidence {
         // the rope's colour is the median of its body: the pixels unlike the wall that are not as
         // dark as a shadow.
         if reference[2] < EDGE_LOG_BRIGHTNESS {
-            let body: Vec<[f64; 3]> = pixels
+            // `pixels` is in order of distance from the wall.
+            let unlike_wall =
+                pixels.partition_point(|f| feature_distance(*f, wall_feature) <= WALL_MARGIN);
+            let body: Vec<[f64; 3]> = pixels[unlike_wall..]
                 .iter()
-                .filter(|f| {
-                    f[2] >= EDGE_LOG_BRIGHTNESS && feature_distance(**f, wall_feature) > WALL_MARGIN
-                })
+                .filter(|f| f[2] >= EDGE_LOG_BRIGHTNESS)
                 .copied()
                 .collect();
             if body.len() >= 10 {
