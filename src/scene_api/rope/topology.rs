@@ -9,7 +9,10 @@
 //! searches the chains of segments the rope's pixels support and keeps, per rope, the one that
 //! explains the most rope length. A segment that passes close by a pulley must wrap it, unless
 //! the rope crosses itself there: the same rope wraps that pulley elsewhere and the segment
-//! crosses another of its segments at an angle (seed 9473's video 9).
+//! crosses another of its segments at an angle (seed 9473's video 9), or the pulley nearly
+//! touches the one the rope just left and lies behind the segment's start (seed 6607's video 0).
+//! No segment runs through a load it does not end at, and no chain ends on one of its own
+//! segments (a candidate end where the rope's mask breaks off, seed 6607's videos 4 and 29).
 //!
 //! Input: the nodes (kind, centre on the scene plane `z = 0`, units), the number of ropes, and an
 //! evidence function that says whether a rope's pixels cover a scene point (`None` when the point
@@ -347,6 +350,12 @@ fn passed_pulleys(
         .collect()
 }
 
+/// Distance from a load's centre within which a straight rope passes through the load, units:
+/// three quarters of its half height (1), so that a strand passing beside a load (at least its
+/// half width from the centre) is not taken for one through it when the centre read from pixels
+/// is off by a few tenths.
+const THROUGH_LOAD: f64 = 0.75 * world::LOAD_HALF_HEIGHT;
+
 /// How densely segments are sampled against the pixels, units.
 const SAMPLE_SPACING: f64 = 0.2;
 /// Least share of a segment's observable samples the rope's pixels must cover.
@@ -368,6 +377,18 @@ fn segment_support(
     // that pulley elsewhere: then this stretch lies over its own turn there (a rope crossing
     // itself, as in a figure of eight). The chain checks that when it is complete.
     let crossed = passed_pulleys(nodes, [from, to], (start, end));
+    // Nor through a load: a stretch through a load's body that does not end there is read on to
+    // a candidate end beyond the load (where a strand of the rope's own pixels breaks off), when
+    // the rope ends at the load.
+    let through_load = nodes.iter().enumerate().any(|(index, node)| {
+        node.kind == NodeKind::Load
+            && index != from
+            && index != to
+            && distance_to_segment(node.centre, start, end) < THROUGH_LOAD
+    });
+    if through_load {
+        return None;
+    }
     let length = distance(start, end);
     let count = pieces(length / SAMPLE_SPACING);
     let (mut covered, mut missed, mut on_mask) = (0, 0, 0);
@@ -418,8 +439,9 @@ fn segment_support(
 
 /// Reads each rope's path: for every rope whose `seen` entry is true, the chain of supported
 /// segments with the most samples on the rope's own mask, then the most covered samples (ties:
-/// fewer missed, then fewer nodes, then the lower node indices), among chains that start and end at nodes a rope can end at and wrap only
-/// pulleys in between; a rope not seen has no path (and costs no search). `covers(rope, point)`
+/// fewer missed, then fewer nodes, then the lower node indices), among chains that start and end
+/// at nodes a rope can end at, wrap only pulleys in between, pass through no load and do not end
+/// on their own segments; a rope not seen has no path (and costs no search). `covers(rope, point)`
 /// says what rope `rope`'s pixels show at a scene point. The mask comes first because pixels of
 /// the rope's colour elsewhere may be another rope's: a short white rope under a pulley would
 /// otherwise be read along a long rope whose light strands look like it.
@@ -518,6 +540,7 @@ fn extend(
             // A chain and its reverse are the same rope; keep the one that starts lower.
             if done.nodes.first() < done.nodes.last()
                 && better(&done, best.as_ref())
+                && !ends_on_itself(nodes, &done)
                 && crossings_hold(
                     nodes,
                     &done,
@@ -580,6 +603,9 @@ fn crossings_hold(
     }
     let segments = path.segments(nodes);
     crossed.all(|(pulley, crossing)| {
+        if touches_behind(nodes, path, &segments, (pulley, crossing)) {
+            return true;
+        }
         let wrapped = path
             .nodes
             .iter()
@@ -593,6 +619,59 @@ fn crossings_hold(
                     .any(|(index, &other)| index != crossing && cross_at_an_angle(own, other))
             })
     })
+}
+
+/// Whether the pulley a stretch passes near is the chain's node just before the stretch's start
+/// (or just after its end), lying behind that end: two pulleys that nearly touch, the rope
+/// leaving the first and grazing the second on its way on (seed 6607's video 0). The stretch
+/// then starts beside the first pulley's rim and heads away from it, which is no pass over it.
+fn touches_behind(
+    nodes: &[Node],
+    path: &RopePath,
+    segments: &[([f64; 2], [f64; 2])],
+    (pulley, crossing): (usize, usize),
+) -> bool {
+    let (Some(&(start, end)), Some(node)) = (segments.get(crossing), nodes.get(pulley)) else {
+        return false;
+    };
+    let heading = [end[0] - start[0], end[1] - start[1]];
+    let away = |from: [f64; 2], sign: f64| {
+        sign * ((from[0] - node.centre[0]) * heading[0] + (from[1] - node.centre[1]) * heading[1])
+            >= 0.0
+    };
+    let before = crossing
+        .checked_sub(1)
+        .and_then(|index| path.nodes.get(index))
+        == Some(&pulley);
+    let after = path.nodes.get(crossing + 2) == Some(&pulley);
+    (before && away(start, 1.0)) || (after && away(end, -1.0))
+}
+
+/// Distance from a stretch of a rope within which a point lies on it, units: far less than the
+/// gap between the two strands hanging from one pulley (twice its wrap radius, 3.2 or more), and
+/// wider than the error of positions read from pixels (a few tenths).
+const ON_STRETCH: f64 = 0.5;
+
+/// Whether an end of a complete chain lies on one of the chain's own stretches (other than the
+/// one that ends there). A rope's end is where its pixels end; a candidate end read on the rope's
+/// own strand (where its mask breaks off) is the rope going on, and a chain ending there rides
+/// on the rope's own pixels to it, which can outscore the true chain (seed 6607's video 29).
+fn ends_on_itself(nodes: &[Node], path: &RopePath) -> bool {
+    let segments = path.segments(nodes);
+    let last = segments.len().saturating_sub(1);
+    let on_other = |end: usize, own: usize| {
+        nodes.get(end).is_some_and(|node| {
+            let offset = node.kind.attachment();
+            let tied = [node.centre[0] + offset[0], node.centre[1] + offset[1]];
+            segments.iter().enumerate().any(|(index, &(start, stop))| {
+                index != own && distance_to_segment(tied, start, stop) < ON_STRETCH
+            })
+        })
+    };
+    match (path.nodes.first(), path.nodes.last()) {
+        (Some(&first), Some(&final_node)) => on_other(first, 0) || on_other(final_node, last),
+        _ => false,
+    }
 }
 
 /// Least sine of the angle at which two segments of one rope must cross to count as the rope
@@ -837,6 +916,128 @@ mod tests {
             &figure_of_eight,
             crossings.into_iter()
         ));
+    }
+
+    /// Seed 6607's video 29, in units from its first frame: a rope from a cube over a solid
+    /// pulley and two hollow ones down to a cube, with a candidate fixed point read where the
+    /// rope's mask breaks on its stretch between the first two pulleys. The chain that ends there
+    /// instead of at the second cube rides back over the pulleys on the rope's own pixels.
+    #[test]
+    fn a_rope_does_not_end_on_its_own_stretch() {
+        let solid = NodeKind::StaticPulley { solid: true };
+        let nodes = vec![
+            node(solid, -16.24, 11.89),
+            pulley(-12.51, 20.04),
+            node(NodeKind::Load, -18.23, 6.42),
+            pulley(-8.89, 19.85),
+            node(NodeKind::Load, -7.16, 14.78),
+            node(NodeKind::Anchor, -16.88, 15.57),
+        ];
+        let clockwise = Some(Turn::Clockwise);
+        let truth = RopePath::unscored(
+            vec![2, 0, 1, 3, 4],
+            vec![None, clockwise, clockwise, clockwise, None],
+        );
+        let back_to_the_break = RopePath::unscored(
+            vec![2, 0, 1, 3, 5],
+            vec![
+                None,
+                clockwise,
+                clockwise,
+                Some(Turn::CounterClockwise),
+                None,
+            ],
+        );
+        assert!(ends_on_itself(&nodes, &back_to_the_break));
+        assert!(!ends_on_itself(&nodes, &truth));
+        // The pixels cover both chains, as the rope's pixels and colour do in the video; the
+        // chain back to the break has the more samples and would win.
+        let mut drawn = truth.polyline(&nodes, 0.05);
+        drawn.extend(back_to_the_break.polyline(&nodes, 0.05));
+        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
+        let path = read[0].as_ref().expect("the chain is read");
+        assert_eq!(path.nodes, truth.nodes);
+        assert_eq!(path.turns, truth.turns);
+    }
+
+    /// Seed 6607's video 4, in units from its first frame: a rope from a sphere up over a solid
+    /// pulley, across to a hollow pulley above it and down its far side to a sphere, with a
+    /// candidate fixed point read below that sphere, beside the rope's crossing stretch. The
+    /// stretch on to it would run through the sphere.
+    #[test]
+    fn a_rope_does_not_run_through_a_load() {
+        let solid = NodeKind::StaticPulley { solid: true };
+        let nodes = vec![
+            node(NodeKind::Load, -7.17, -5.58),
+            node(solid, -5.16, -0.06),
+            pulley(-5.15, 11.89),
+            node(NodeKind::Load, -6.83, 6.42),
+            node(NodeKind::Anchor, -5.96, 3.83),
+        ];
+        let truth = RopePath::unscored(
+            vec![0, 1, 2, 3],
+            vec![
+                None,
+                Some(Turn::Clockwise),
+                Some(Turn::CounterClockwise),
+                None,
+            ],
+        );
+        let on_to_the_anchor = segment(&nodes[2], Some(Turn::CounterClockwise), &nodes[4], None)
+            .expect("a tangent exists");
+        let everywhere = &mut |_point: [f64; 2]| Some(Sample::OnMask);
+        let ends = [(2, true), (4, false)];
+        assert_eq!(
+            segment_support(&nodes, ends, on_to_the_anchor, everywhere),
+            None
+        );
+        let drawn = truth.polyline(&nodes, 0.05);
+        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
+        let path = read[0].as_ref().expect("the chain is read");
+        assert_eq!(path.nodes, truth.nodes);
+        assert_eq!(path.turns, truth.turns);
+    }
+
+    /// Seed 6607's video 0, in units from its first frame: a rope from a sphere over a solid
+    /// pulley, off it past a hollow pulley that nearly touches it, down past a second hollow
+    /// pulley to a cube. The stretch from the first hollow pulley down starts beside the solid
+    /// pulley's rim, within the graze distance of it, heading away from it.
+    #[test]
+    fn a_rope_grazing_the_pulley_beside_the_one_it_left_is_read() {
+        let solid = NodeKind::StaticPulley { solid: true };
+        let nodes = vec![
+            node(NodeKind::Load, -16.93, 6.44),
+            node(NodeKind::Load, -12.92, -5.64),
+            node(solid, -14.93, 11.98),
+            pulley(-11.29, 11.79),
+            pulley(-11.21, -0.03),
+        ];
+        let truth = RopePath::unscored(
+            vec![0, 2, 3, 4, 1],
+            vec![
+                None,
+                Some(Turn::Clockwise),
+                Some(Turn::CounterClockwise),
+                Some(Turn::CounterClockwise),
+                None,
+            ],
+        );
+        let crossings = crossings_of(&nodes, &truth);
+        assert_eq!(
+            crossings,
+            vec![(2, 2)],
+            "the stretch down grazes the solid pulley"
+        );
+        let drawn = truth.polyline(&nodes, 0.05);
+        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
+        let path = read[0].as_ref().expect("the chain is read");
+        assert_eq!(path.nodes, truth.nodes);
+        assert_eq!(path.turns, truth.turns);
+        // The stretch past the second hollow pulley does head towards the first one's disc:
+        // a pass over it, refused.
+        let reversed = RopePath::unscored(vec![0, 2, 4, 3, 1], truth.turns.clone());
+        let segments = reversed.segments(&nodes);
+        assert!(!touches_behind(&nodes, &reversed, &segments, (2, 2)));
     }
 
     /// A rope drawn straight from one load to another through a pulley's disc is no rope: it
