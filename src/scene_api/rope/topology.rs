@@ -803,6 +803,15 @@ mod tests {
         assert!(read[1].is_none(), "a rope with no pixels has no path");
     }
 
+    /// Reads one rope from the pixels `drawn` (see [`drawn_covers`]) and checks that `truth`'s
+    /// chain comes back, with its turns.
+    fn assert_reads_back(nodes: &[Node], drawn: &[[f64; 2]], truth: &RopePath) {
+        let read = read_ropes(nodes, &[true], &mut drawn_covers(drawn));
+        let path = read[0].as_ref().expect("the chain is read");
+        assert_eq!(path.nodes, truth.nodes);
+        assert_eq!(path.turns, truth.turns);
+    }
+
     /// The pixels of a drawn rope, seen within 0.3 units of its centre line.
     fn drawn_covers(drawn: &[[f64; 2]]) -> impl FnMut(usize, [f64; 2]) -> Option<Sample> + '_ {
         move |_rope, point| {
@@ -850,10 +859,7 @@ mod tests {
             "the stretch down passes over the second pulley"
         );
         let drawn = truth.polyline(&nodes, 0.05);
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
-        let path = read[0].as_ref().unwrap();
-        assert_eq!(path.nodes, truth.nodes);
-        assert_eq!(path.turns, truth.turns);
+        assert_reads_back(&nodes, &drawn, &truth);
     }
 
     /// The pulleys each segment of `path` passes over, as the search records them: (pulley,
@@ -954,10 +960,7 @@ mod tests {
         // chain back to the break has the more samples and would win.
         let mut drawn = truth.polyline(&nodes, 0.05);
         drawn.extend(back_to_the_break.polyline(&nodes, 0.05));
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
-        let path = read[0].as_ref().expect("the chain is read");
-        assert_eq!(path.nodes, truth.nodes);
-        assert_eq!(path.turns, truth.turns);
+        assert_reads_back(&nodes, &drawn, &truth);
     }
 
     /// Seed 6607's video 4, in units from its first frame: a rope from a sphere up over a solid
@@ -992,10 +995,7 @@ mod tests {
             None
         );
         let drawn = truth.polyline(&nodes, 0.05);
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
-        let path = read[0].as_ref().expect("the chain is read");
-        assert_eq!(path.nodes, truth.nodes);
-        assert_eq!(path.turns, truth.turns);
+        assert_reads_back(&nodes, &drawn, &truth);
     }
 
     /// Seed 6607's video 0, in units from its first frame: a rope from a sphere over a solid
@@ -1029,10 +1029,7 @@ mod tests {
             "the stretch down grazes the solid pulley"
         );
         let drawn = truth.polyline(&nodes, 0.05);
-        let read = read_ropes(&nodes, &[true], &mut drawn_covers(&drawn));
-        let path = read[0].as_ref().expect("the chain is read");
-        assert_eq!(path.nodes, truth.nodes);
-        assert_eq!(path.turns, truth.turns);
+        assert_reads_back(&nodes, &drawn, &truth);
         // The stretch past the second hollow pulley does head towards the first one's disc:
         // a pass over it, refused.
         let reversed = RopePath::unscored(vec![0, 2, 4, 3, 1], truth.turns.clone());
