@@ -655,21 +655,19 @@ const ON_STRETCH: f64 = 0.5;
 /// Whether an end of a complete chain lies on one of the chain's own stretches (other than the
 /// one that ends there). A rope's end is where its pixels end; a candidate end read on the rope's
 /// own strand (where its mask breaks off) is the rope going on, and a chain ending there rides
-/// on the rope's own pixels to it, which can outscore the true chain (seed 6607's video 29).
+/// on the rope's own pixels to it, which can outscore the true chain (seed 6607's video 29). The
+/// ends are where the rope is tied: the start of the first stretch and the end of the last.
 fn ends_on_itself(nodes: &[Node], path: &RopePath) -> bool {
     let segments = path.segments(nodes);
-    let last = segments.len().saturating_sub(1);
-    let on_other = |end: usize, own: usize| {
-        nodes.get(end).is_some_and(|node| {
-            let offset = node.kind.attachment();
-            let tied = [node.centre[0] + offset[0], node.centre[1] + offset[1]];
-            segments.iter().enumerate().any(|(index, &(start, stop))| {
-                index != own && distance_to_segment(tied, start, stop) < ON_STRETCH
-            })
+    let on_another = |point: [f64; 2], own: usize| {
+        segments.iter().enumerate().any(|(index, &(start, end))| {
+            index != own && distance_to_segment(point, start, end) < ON_STRETCH
         })
     };
-    match (path.nodes.first(), path.nodes.last()) {
-        (Some(&first), Some(&final_node)) => on_other(first, 0) || on_other(final_node, last),
+    match (segments.first(), segments.last()) {
+        (Some(&(first_end, _)), Some(&(_, last_end))) => {
+            on_another(first_end, 0) || on_another(last_end, segments.len() - 1)
+        }
         _ => false,
     }
 }
