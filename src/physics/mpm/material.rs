@@ -55,6 +55,9 @@ pub struct RigidMaterial {
     pub friction: f64,
     /// Rolling resistance against the static colliders (0: an ideal disc rolls at ⅔ g sin θ).
     pub rolling_resistance: f64,
+    /// Coulomb friction against the static colliders, in place of their boundary condition's
+    /// (`None`: theirs). Lets the grid's nodes slip along a collider while the disc grips it.
+    pub collider_friction: Option<f64>,
 }
 
 /// A weakly compressible viscous liquid: Kirchhoff stress `τ = κ(J − 1)·I + μ·J·(C + Cᵀ)`, the
@@ -119,15 +122,17 @@ impl Material {
             }
             Material::Rigid(rigid) => {
                 positive_density(rigid.density, &invalid)?;
-                if [rigid.friction, rigid.rolling_resistance]
+                let collider_friction = rigid.collider_friction.unwrap_or(0.0);
+                if [rigid.friction, rigid.rolling_resistance, collider_friction]
                     .iter()
                     .all(|value| value.is_finite() && *value >= 0.0)
                 {
                     Ok(())
                 } else {
                     Err(invalid(format!(
-                        "friction {} or rolling resistance {} is not finite and non-negative",
-                        rigid.friction, rigid.rolling_resistance
+                        "friction {}, rolling resistance {} or collider friction {} is not \
+                         finite and non-negative",
+                        rigid.friction, rigid.rolling_resistance, collider_friction
                     )))
                 }
             }

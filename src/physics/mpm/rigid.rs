@@ -50,6 +50,8 @@ pub struct RigidBody {
     /// Rolling resistance against the static colliders: the torque opposing its spin is at most
     /// this share of the normal force times the radius.
     pub rolling_resistance: f64,
+    /// Coulomb friction against the static colliders in place of their boundary condition's.
+    pub collider_friction: Option<f64>,
     /// Total mass.
     pub mass: f64,
     /// Moment of inertia about the centre.
@@ -204,10 +206,12 @@ impl RigidBody {
                     ];
                     let arm = offset[0] * direction[1] - offset[1] * direction[0];
                     let stopping = tangent_speed / (inverse_mass + arm * arm * inverse_inertia);
-                    let bound = match boundary {
-                        Boundary::Sticky => f64::INFINITY,
-                        Boundary::Slip => 0.0,
-                        Boundary::Separate { friction } => friction * normal_impulse,
+                    let bound = match (self.collider_friction, boundary) {
+                        (Some(friction), _) | (None, Boundary::Separate { friction }) => {
+                            friction * normal_impulse
+                        }
+                        (None, Boundary::Sticky) => f64::INFINITY,
+                        (None, Boundary::Slip) => 0.0,
                     };
                     let friction_impulse = stopping.min(bound);
                     impulse[0] += friction_impulse * direction[0];
@@ -293,6 +297,30 @@ impl Solver {
     /// APIC matrices, their linear momentum stays. Returns their spin before, `None` when no
     /// particle is of `material` or the spin is not a number.
     pub fn spin_down(&mut self, material: usize, most: f64) -> Option<f64> {
+        let (centre, spin) = self.body_rotation(material)?;
+        let change = -spin.signum() * spin.abs().min(most.max(0.0));
+        self.rotate_about(material, centre, change);
+        Some(spin)
+    }
+
+    /// Adds `change` rad/s of rigid rotation about their centre of mass to the particles of
+    /// `material` (an angular impulse on a soft body as a whole: its friction at a contact,
+    /// computed by the caller between advances); their linear momentum stays. Returns whether
+    /// any particle is of `material`.
+    pub fn add_spin(&mut self, material: usize, change: f64) -> bool {
+        let Some((centre, _)) = self.body_rotation(material) else {
+            return false;
+        };
+        if change.is_finite() {
+            self.rotate_about(material, centre, change);
+        }
+        true
+    }
+
+    /// The centre of mass of the particles of `material` and their rigid spin about it (angular
+    /// momentum over moment of inertia), rad/s; `None` when there is none or the spin is not a
+    /// number.
+    fn body_rotation(&self, material: usize) -> Option<([f64; 2], f64)> {
         let ours = |constants: &ParticleConstants| constants.material as usize == material;
         let (mut mass, mut moment) = (0.0, [0.0; 2]);
         for (state, constants) in self.state.iter().zip(&self.constants) {
@@ -316,21 +344,22 @@ impl Solver {
             }
         }
         let spin = angular_momentum / inertia;
-        if !spin.is_finite() || inertia <= 0.0 {
-            return None;
-        }
-        let change = spin.signum() * spin.abs().min(most.max(0.0));
+        (spin.is_finite() && inertia > 0.0).then_some((centre, spin))
+    }
+
+    /// Adds a rigid rotation of `change` rad/s about `centre` to the particles of `material`:
+    /// to their velocities and to their APIC matrices (a rotation's velocity gradient is
+    /// `[[0, −ω], [ω, 0]]`).
+    fn rotate_about(&mut self, material: usize, centre: [f64; 2], change: f64) {
         for (state, constants) in self.state.iter_mut().zip(&self.constants) {
-            if ours(constants) {
+            if constants.material as usize == material {
                 let r = [state.position[0] - centre[0], state.position[1] - centre[1]];
-                state.velocity[0] += change * r[1];
-                state.velocity[1] -= change * r[0];
-                // A rotation's velocity gradient is [[0, −ω], [ω, 0]].
-                state.affine[1] += change;
-                state.affine[2] -= change;
+                state.velocity[0] -= change * r[1];
+                state.velocity[1] += change * r[0];
+                state.affine[1] -= change;
+                state.affine[2] += change;
             }
         }
-        Some(spin)
     }
 
     /// Adds a rigid disc of `material` (a [`Material::Rigid`]) and `radius`, centred on the centroid
@@ -346,26 +375,30 @@ impl Solver {
         angular_velocity: f64,
         volume: f64,
     ) -> Result<usize, MpmError> {
-        let (density, friction, rolling_resistance) = match self.materials.get(material) {
-            Some(Material::Rigid(rigid)) => {
-                (rigid.density, rigid.friction, rigid.rolling_resistance)
-            }
-            Some(_) => {
-                return Err(MpmError::RigidBody {
-                    material,
-                    reason: "a rigid body needs a rigid material".to_string(),
-                });
-            }
-            None => {
-                let at = positions.first().copied().unwrap_or([0.0; 2]);
-                return Err(MpmError::UnknownMaterial {
-                    material,
-                    count: self.materials.len(),
-                    x: at[0],
-                    y: at[1],
-                });
-            }
-        };
+        let (density, friction, rolling_resistance, collider_friction) =
+            match self.materials.get(material) {
+                Some(Material::Rigid(rigid)) => (
+                    rigid.density,
+                    rigid.friction,
+                    rigid.rolling_resistance,
+                    rigid.collider_friction,
+                ),
+                Some(_) => {
+                    return Err(MpmError::RigidBody {
+                        material,
+                        reason: "a rigid body needs a rigid material".to_string(),
+                    });
+                }
+                None => {
+                    let at = positions.first().copied().unwrap_or([0.0; 2]);
+                    return Err(MpmError::UnknownMaterial {
+                        material,
+                        count: self.materials.len(),
+                        x: at[0],
+                        y: at[1],
+                    });
+                }
+            };
         let numbers_finite = [radius, volume, velocity[0], velocity[1], angular_velocity]
             .iter()
             .all(|value| value.is_finite());
@@ -398,6 +431,7 @@ impl Solver {
             radius,
             friction,
             rolling_resistance,
+            collider_friction,
             offsets,
             center,
             angle: 0.0,

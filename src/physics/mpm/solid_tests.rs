@@ -26,6 +26,7 @@ const RIGID: Material = Material::Rigid(RigidMaterial {
     density: 1.0,
     friction: 0.3,
     rolling_resistance: 0.0,
+    collider_friction: None,
 });
 
 /// Adds a disc of `material` (a body when the material is rigid); returns its particle count.
