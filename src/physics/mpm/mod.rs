@@ -45,7 +45,7 @@ pub use emitter::Emitter;
 pub use material::{
     ElastoplasticMaterial, LiquidMaterial, Material, RigidMaterial, VOLUME_RATIO_RANGE,
 };
-pub use rigid::RigidBody;
+pub use rigid::{BodyMotion, RigidBody};
 pub use solver::{ParticleState, Settings, Solver, WorkCounters};
 
 /// Errors of the MPM core; each names the value at fault.

@@ -66,6 +66,19 @@ pub struct RigidBody {
     pub angular_velocity: f64,
 }
 
+/// The particles of one material taken as one body ([`Solver::body_motion`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyMotion {
+    /// Centre of mass.
+    pub centre: [f64; 2],
+    /// Rigid spin about it, rad/s, counter-clockwise.
+    pub spin: f64,
+    /// Total mass.
+    pub mass: f64,
+    /// Moment of inertia about the centre.
+    pub inertia: f64,
+}
+
 /// Grid momentum given to a disc during one grid update: (impulse, angular impulse).
 pub(super) type Exchange = ([f64; 2], f64);
 
@@ -297,7 +310,7 @@ impl Solver {
     /// APIC matrices, their linear momentum stays. Returns their spin before, `None` when no
     /// particle is of `material` or the spin is not a number.
     pub fn spin_down(&mut self, material: usize, most: f64) -> Option<f64> {
-        let (centre, spin) = self.body_rotation(material)?;
+        let BodyMotion { centre, spin, .. } = self.body_motion(material)?;
         let change = -spin.signum() * spin.abs().min(most.max(0.0));
         self.rotate_about(material, centre, change);
         Some(spin)
@@ -308,7 +321,7 @@ impl Solver {
     /// computed by the caller between advances); their linear momentum stays. Returns whether
     /// any particle is of `material`.
     pub fn add_spin(&mut self, material: usize, change: f64) -> bool {
-        let Some((centre, _)) = self.body_rotation(material) else {
+        let Some(BodyMotion { centre, .. }) = self.body_motion(material) else {
             return false;
         };
         if change.is_finite() {
@@ -317,10 +330,10 @@ impl Solver {
         true
     }
 
-    /// The centre of mass of the particles of `material` and their rigid spin about it (angular
-    /// momentum over moment of inertia), rad/s; `None` when there is none or the spin is not a
-    /// number.
-    fn body_rotation(&self, material: usize) -> Option<([f64; 2], f64)> {
+    /// The particles of `material` as one body: their centre of mass, rigid spin about it
+    /// (angular momentum over moment of inertia, rad/s), mass and moment of inertia; `None` when
+    /// there is none or the spin is not a number.
+    pub fn body_motion(&self, material: usize) -> Option<BodyMotion> {
         let ours = |constants: &ParticleConstants| constants.material as usize == material;
         let (mut mass, mut moment) = (0.0, [0.0; 2]);
         for (state, constants) in self.state.iter().zip(&self.constants) {
@@ -344,7 +357,12 @@ impl Solver {
             }
         }
         let spin = angular_momentum / inertia;
-        (spin.is_finite() && inertia > 0.0).then_some((centre, spin))
+        (spin.is_finite() && inertia > 0.0).then_some(BodyMotion {
+            centre,
+            spin,
+            mass,
+            inertia,
+        })
     }
 
     /// Adds a rigid rotation of `change` rad/s about `centre` to the particles of `material`:

@@ -16,8 +16,8 @@ use crate::dataset::ball::ElasticityType;
 use crate::dataset::ball::outcome::{GONE_HEIGHT, Pit, first_drop, track_finished};
 use crate::dataset::ball::{BallLayout, SlabRecord};
 use crate::physics::mpm::{
-    Boundary, Collider, ElastoplasticMaterial, GridSpec, Material, MpmError, RigidMaterial,
-    Settings, Shape, Solver, Walls, disc_lattice,
+    BodyMotion, Boundary, Collider, ElastoplasticMaterial, GridSpec, Material, MpmError,
+    RigidMaterial, Settings, Shape, Solver, Walls, disc_lattice,
 };
 use crate::physics::slab::signed_distance;
 
@@ -449,8 +449,8 @@ fn soft_contact(
         }
         SoftContact::Body => {
             let before = memory.previous_velocity.unwrap_or(velocity);
-            if let Some(spin) = body_spin(particles, index, centre)
-                && let Some(change) = body_friction(slabs, centre, before, velocity, spin, model)
+            if let Some(body) = solver.body_motion(index)
+                && let Some(change) = body_friction(slabs, centre, before, velocity, body, model)
             {
                 solver.add_velocity(index, change.velocity);
                 solver.add_spin(index, change.spin);
@@ -477,28 +477,6 @@ fn soft_spin_loss(slabs: &[&StadiumSlab], centre: [f64; 2], model: &BallModel) -
     })
 }
 
-/// A soft ball's rigid spin about `centre`: (angular velocity, rad/s; its moment of inertia over
-/// its mass times the radius squared, ½ for a round disc).
-fn body_spin(
-    particles: &[(crate::physics::mpm::ParticleState, usize, f64)],
-    material: usize,
-    centre: [f64; 2],
-) -> Option<(f64, f64)> {
-    let (mut angular_momentum, mut inertia, mut mass) = (0.0, 0.0, 0.0);
-    for (state, which, particle_mass) in particles {
-        if *which == material {
-            let r = [state.position[0] - centre[0], state.position[1] - centre[1]];
-            angular_momentum +=
-                particle_mass * (r[0] * state.velocity[1] - r[1] * state.velocity[0]);
-            inertia += particle_mass * (r[0] * r[0] + r[1] * r[1]);
-            mass += particle_mass;
-        }
-    }
-    let spin = angular_momentum / inertia;
-    let gyration = inertia / (mass * BALL_RADIUS * BALL_RADIUS);
-    (spin.is_finite() && gyration.is_finite() && gyration > 0.0).then_some((spin, gyration))
-}
-
 /// A change of a soft ball's motion as a whole: of every particle's velocity, and of its rigid
 /// spin about its centre.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -510,8 +488,8 @@ struct MotionChange {
 /// The slab's friction and rolling resistance on a soft ball over one update
 /// ([`SoftContact::Body`]), as the rigid disc's impulse contact computes them, per unit of the
 /// ball's mass. `before` and `after` are its mean velocity at the ends of the update (the grid
-/// stopped its approach in between, without friction), `spin` its (angular velocity,
-/// gyration) from [`body_spin`]. The normal impulse is what the update's velocity change along
+/// stopped its approach in between, without friction), `body` its spin, mass and moment of
+/// inertia. The normal impulse is what the update's velocity change along
 /// the slab's normal shows beyond gravity's; `None` when the ball touches no slab or the slab
 /// pushed it not at all.
 fn body_friction(
@@ -519,7 +497,7 @@ fn body_friction(
     centre: [f64; 2],
     before: [f64; 2],
     after: [f64; 2],
-    spin: (f64, f64),
+    body: BodyMotion,
     model: &BallModel,
 ) -> Option<MotionChange> {
     let (gap, normal) = nearest_slab(slabs, centre)?;
@@ -533,7 +511,7 @@ fn body_friction(
     if pushed.is_nan() || pushed <= 0.0 {
         return None;
     }
-    let (omega, gyration) = spin;
+    let omega = body.spin;
     // The contact point, a radius from the centre towards the slab, and its velocity.
     let arm = [-BALL_RADIUS * normal[0], -BALL_RADIUS * normal[1]];
     let point = [after[0] - omega * arm[1], after[1] + omega * arm[0]];
@@ -547,7 +525,8 @@ fn body_friction(
         velocity: [0.0; 2],
         spin: 0.0,
     };
-    let inverse_inertia = 1.0 / (gyration * BALL_RADIUS * BALL_RADIUS);
+    // Per unit of the ball's mass, as the impulses here are.
+    let inverse_inertia = body.mass / body.inertia;
     if slip_speed > 0.0 {
         let direction = [-slip[0] / slip_speed, -slip[1] / slip_speed];
         let lever = arm[0] * direction[1] - arm[1] * direction[0];
